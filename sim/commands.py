@@ -1,0 +1,81 @@
+"""Ground commands: typed models defined once, used by every door (scenario
+files, REST, the console), and their lifecycle.
+
+A command is validated on arrival by its schema, then checked by the flight
+software at the next control cycle against the current mode:
+
+    queued -> accepted | rejected(reason) -> executing -> completed | failed(reason)
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Annotated, ClassVar, Literal, Union
+
+from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, field_validator
+
+from sim.modes import Mode
+from sim.spacecraft.model import Quat, check_unit_quaternion
+
+
+class CommandBase(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+    legal_modes: ClassVar[tuple[Mode, ...]] = ()
+    hazardous: ClassVar[bool] = False
+
+
+class SetTargetQuaternion(CommandBase):
+    """Slew to, and hold, an inertially fixed (GCI) target attitude q_RN."""
+    type: Literal["set_target_quaternion"] = "set_target_quaternion"
+    q_RN: Quat = Field(description="target attitude of the reference frame R in GCI, scalar-first [w, x, y, z]")
+    legal_modes: ClassVar = (Mode.INERTIAL,)
+
+    @field_validator("q_RN")
+    @classmethod
+    def _unit(cls, q: Quat) -> Quat:
+        return check_unit_quaternion(q)
+
+
+class ResetIntegrator(CommandBase):
+    """Zero the integral of the attitude error (seed 000: the command kept for
+    when the held integral torque cannot get back inside the box)."""
+    type: Literal["reset_integrator"] = "reset_integrator"
+    legal_modes: ClassVar = (Mode.INERTIAL, Mode.SCIENCE)
+
+
+Command = Annotated[Union[SetTargetQuaternion, ResetIntegrator], Field(discriminator="type")]
+COMMAND_ADAPTER: TypeAdapter = TypeAdapter(Command)
+COMMAND_TYPES = {c.model_fields["type"].default: c for c in (SetTargetQuaternion, ResetIntegrator)}
+
+QUEUED, ACCEPTED, REJECTED, EXECUTING, COMPLETED, FAILED = (
+    "queued", "accepted", "rejected", "executing", "completed", "failed")
+FINAL_STAGES = (REJECTED, COMPLETED, FAILED)
+
+
+@dataclass
+class Stage:
+    name: str
+    t_s: float
+    reason: str = ""
+
+
+@dataclass
+class CommandRecord:
+    id: int
+    command: CommandBase
+    source: str          # who sent it: "scenario", "operator", ...
+    due_s: float         # time tag: delivered at the first control cycle at or after it
+    stages: list[Stage] = field(default_factory=list)
+
+    @property
+    def state(self) -> str:
+        return self.stages[-1].name if self.stages else QUEUED
+
+    @property
+    def done(self) -> bool:
+        return self.state in FINAL_STAGES
+
+    def args(self) -> dict:
+        return self.command.model_dump(exclude={"type"})
+
+    def describe(self) -> str:
+        return f"command {self.id} {self.command.type}"

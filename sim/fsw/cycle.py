@@ -1,0 +1,75 @@
+"""One flight-software control cycle, compiled: estimate, control law of the
+current mode, distribution to the actuators.
+
+The mode machine and command handling stay in Python (flight_software.py);
+this kernel returns an event code when something needs their attention.
+"""
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+from sim.attitude import error_quat, small_angle_error
+from sim.fsw.distribution import distribute
+from sim.fsw.estimation import estimate_attitude
+from sim.fsw.pid import PidParams, pid_torque
+from sim.modes import Mode
+
+INERTIAL = int(Mode.INERTIAL)
+
+EVENT_NONE = 0
+EVENT_SLEW_SETTLED = 1
+
+# flags[] slots
+F_INTEGRATOR_ACTIVE, F_WATCH_SLEW = 0, 1
+N_FLAGS = 2
+
+
+class FswParams(NamedTuple):
+    pid: PidParams
+    dist: np.ndarray        # (N, 3) wheel distribution matrix
+    torque_limit: float     # software wheel torque limit, N m
+    source: int             # estimation.SOURCE_*
+    st_index: int
+    q_BS: np.ndarray        # (4,) the flight software's mounting of the selected tracker
+    dt: float
+
+
+class FswState(NamedTuple):
+    mode: np.ndarray                 # (1,) int64
+    q_est_BN: np.ndarray             # (4,)
+    q_RN: np.ndarray                 # (4,) commanded target
+    integral: np.ndarray             # (3,) integral of theta_e, rad s
+    theta_e: np.ndarray              # (3,) rad, body axes
+    omega_e: np.ndarray              # (3,) rad/s
+    torque_cmd_B: np.ndarray         # (3,) N m
+    torque_undelivered_B: np.ndarray  # (3,) N m withheld by the scaling
+    flags: np.ndarray                # (N_FLAGS,) float
+
+
+@njit(cache=True)
+def inertial_law(rate_B, s, p):
+    """Seed 001 eq. (1)-(3): errors against the target and the PID torque."""
+    s.theta_e[:] = small_angle_error(error_quat(s.q_RN, s.q_est_BN))
+    s.omega_e[:] = -rate_B
+    torque, active = pid_torque(s.theta_e, s.omega_e, s.integral, p.pid)
+    s.torque_cmd_B[:] = torque
+    s.flags[F_INTEGRATOR_ACTIVE] = 1.0 if active else 0.0
+    if active and s.flags[F_WATCH_SLEW] > 0.0:
+        s.flags[F_WATCH_SLEW] = 0.0
+        return EVENT_SLEW_SETTLED
+    return EVENT_NONE
+
+
+@njit(cache=True)
+def fsw_cycle(rec, s, p, act):
+    k = p.st_index
+    s.q_est_BN[:] = estimate_attitude(p.source, s.q_est_BN, rec.iru_rate_B_rad_s, rec.st_q_SN[k],
+                                      rec.st_valid[k], p.q_BS, p.dt)
+    event = EVENT_NONE
+    if s.mode[0] == INERTIAL:
+        event = inertial_law(rec.iru_rate_B_rad_s, s, p)
+    else:
+        s.torque_cmd_B[:] = 0.0
+    s.torque_undelivered_B[:] = distribute(s.torque_cmd_B, p.dist, p.torque_limit, act.wheel_torque_Nm)
+    return event

@@ -1,0 +1,40 @@
+"""Small dense products for the compiled kernels.
+
+numba sends `@` on float64 arrays to BLAS, whose call overhead dwarfs a 3 x 3
+product; these plain loops compile to a few instructions instead.
+"""
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True)
+def matvec(m, v):
+    """m @ v for a small (r, c) matrix."""
+    r, c = m.shape
+    out = np.zeros(r)
+    for i in range(r):
+        acc = 0.0
+        for j in range(c):
+            acc += m[i, j] * v[j]
+        out[i] = acc
+    return out
+
+
+@njit(cache=True)
+def matvec_t(m, v):
+    """m.T @ v for a small (r, c) matrix, without forming the transpose."""
+    r, c = m.shape
+    out = np.zeros(c)
+    for i in range(r):
+        for j in range(c):
+            out[j] += m[i, j] * v[i]
+    return out
+
+
+@njit(cache=True)
+def cross(a, b):
+    out = np.empty(3)
+    out[0] = a[1] * b[2] - a[2] * b[1]
+    out[1] = a[2] * b[0] - a[0] * b[2]
+    out[2] = a[0] * b[1] - a[1] * b[0]
+    return out

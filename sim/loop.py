@@ -1,0 +1,32 @@
+"""The compiled cycle loop: sensors -> flight software -> actuators -> truth.
+
+The runner calls `advance` once per segment, a run of control cycles with
+nothing for Python to do: no command due, no telemetry sample, no
+flight-software event. The loop returns early on an event so the Python side
+(mode machine, command lifecycle) acts at the exact cycle. Crossing the wall
+is here, in the runner's code: sim.truth and sim.fsw never meet otherwise.
+"""
+from numba import njit
+
+from sim.fsw.cycle import fsw_cycle
+from sim.truth.plant import propagate, sense
+
+
+@njit(cache=True)
+def advance(n_cycles, x, iru_state, tp, noise, noise_row, rec, s, fp, act_applied, act_new, torque_ext_B, delay):
+    """Run up to n_cycles; return (cycles run, last event code).
+
+    With a one-cycle actuator delay the command computed from the samples at
+    t_k drives the plant over [t_k+1, t_k+2]; with none, over [t_k, t_k+1].
+    """
+    for k in range(n_cycles):
+        sense(x, iru_state, tp, noise[noise_row + k], rec)
+        event = fsw_cycle(rec, s, fp, act_new)
+        if delay == 0:
+            act_applied.wheel_torque_Nm[:] = act_new.wheel_torque_Nm
+        propagate(x, tp, act_applied.wheel_torque_Nm, torque_ext_B)
+        if delay != 0:
+            act_applied.wheel_torque_Nm[:] = act_new.wheel_torque_Nm
+        if event != 0:
+            return k + 1, event
+    return n_cycles, 0

@@ -1,0 +1,228 @@
+"""The runner: one run of a scenario, as a pure function of (scenario, seed).
+
+It owns the truth model, the flight software, the command queue and the run's
+single random generator, carries sensor records and actuator commands across
+the wall (sim/loop.py), stamps command lifecycles, samples telemetry and hands
+everything to its listeners. Time is an integer count of control cycles
+(cycle_ns each), so rates never drift against each other.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable, Protocol
+
+import numpy as np
+
+from sim import telemetry
+from sim.command_queue import CommandQueue
+from sim.commands import ACCEPTED, COMPLETED, EXECUTING, FAILED, REJECTED, CommandBase, CommandRecord, Stage
+from sim.commands import SetTargetQuaternion
+from sim.events import ERROR, INFO, WARNING, Event
+from sim.expectations import evaluate
+from sim.fsw.cycle import EVENT_SLEW_SETTLED
+from sim.fsw.flight_software import FlightSoftware
+from sim.loop import advance
+from sim.records import empty_actuator_command, empty_sensor_record
+from sim.scenario import Scenario, initial_mode, initial_target
+from sim.spacecraft.model import Spacecraft
+from sim.truth import plant
+
+NOISE_BLOCK_CYCLES = 4096  # rows drawn at once; fixed, so draws never depend on segmenting
+
+
+class Listener(Protocol):
+    def on_event(self, event: Event) -> None: ...
+    def on_telemetry(self, frame: dict) -> None: ...
+
+
+@dataclass
+class ExpectationResult:
+    description: str
+    ok: bool
+    measured: str
+
+
+@dataclass
+class RunResult:
+    telemetry: dict[str, list] = field(default_factory=dict)
+    events: list[Event] = field(default_factory=list)
+    commands: list[CommandRecord] = field(default_factory=list)
+    expectations: list[ExpectationResult] = field(default_factory=list)
+
+    @property
+    def passed(self) -> bool:
+        return all(e.ok for e in self.expectations)
+
+
+class Runner:
+    def __init__(self, scenario: Scenario, sc: Spacecraft, seed: int | None = None,
+                 listeners: list[Listener] | None = None):
+        self.scenario, self.sc = scenario, sc
+        self.seed = scenario.seed if seed is None else seed
+        self.rng = np.random.default_rng(self.seed)
+        self.listeners = list(listeners or [])
+        self.fields = scenario.recorded_fields(sc)
+        self.result = RunResult()
+        self._modes: list[str] = []
+        self._rows: list[np.ndarray] = []
+
+        self.cycle_ns = round(sc.timing.control_dt_s * 1e9)
+        self.cycle = 0
+        self.end_cycle = math.floor(scenario.duration_s * 1e9 / self.cycle_ns + 1e-9)
+        self.tlm_every = round(scenario.output.period_s * 1e9 / self.cycle_ns)
+        self.delay = sc.timing.actuator_delay_cycles
+
+        init = scenario.initial
+        h0 = init.h_wheels_Nms or [0.0] * sc.n_wheels
+        self.truth_params = plant.make_truth_params(sc)
+        self.x = plant.initial_state(init.q_BN, init.omega_BN_B_rad_s, h0)
+        self.iru_state = plant.initial_iru_state(sc, self.truth_params, self.x)
+        self.torque_ext_B = np.zeros(3)
+        self.sensors = empty_sensor_record(len(sc.star_trackers))
+        self.act_applied = empty_actuator_command(sc.n_wheels)
+        self.act_new = empty_actuator_command(sc.n_wheels)
+        # The flight software starts knowing the initial attitude (as if uplinked).
+        self.fsw = FlightSoftware(sc, initial_mode(scenario), init.q_BN, initial_target(scenario))
+
+        self.n_noise = plant.noise_per_cycle(len(sc.star_trackers))
+        self._noise = np.empty((0, self.n_noise))
+        self._noise_row = 0
+        self._slew: tuple[CommandRecord, int] | None = None  # executing slew and its deadline cycle
+
+        self.queue = CommandQueue(self._on_stage)
+        for c in scenario.commands:
+            self.submit(c.command, "scenario", c.t_s)
+
+    # -- time ----------------------------------------------------------------
+    @property
+    def t_s(self) -> float:
+        return self.cycle * self.cycle_ns / 1e9
+
+    def cycle_at(self, t_s: float) -> int:
+        """First control cycle at or after t_s."""
+        return math.ceil(round(t_s * 1e9) / self.cycle_ns)
+
+    # -- commands ------------------------------------------------------------
+    def submit(self, command: CommandBase, source: str, t_s: float | None = None) -> CommandRecord:
+        due = self.t_s if t_s is None else t_s
+        return self.queue.submit(command, source, due, max(self.cycle_at(due), self.cycle), self.t_s)
+
+    def _on_stage(self, rec: CommandRecord, st: Stage) -> None:
+        severity = WARNING if st.name in (REJECTED, FAILED) else INFO
+        msg = f"{rec.describe()} {st.name}" + (f": {st.reason}" if st.reason else "")
+        self.emit(Event(st.t_s, severity, "ground" if st.name == "queued" else "fsw", "command", msg,
+                        {"id": rec.id, "stage": st.name}))
+
+    def _deliver_due_commands(self) -> None:
+        for rec in self.queue.pop_due(self.cycle):
+            outcome = self.fsw.execute(rec.command)
+            if not outcome.accepted:
+                self.queue.stamp(rec, REJECTED, self.t_s, outcome.reason)
+                continue
+            self.queue.stamp(rec, ACCEPTED, self.t_s)
+            self.queue.stamp(rec, EXECUTING, self.t_s)
+            if outcome.completed:
+                self.queue.stamp(rec, COMPLETED, self.t_s)
+            elif isinstance(rec.command, SetTargetQuaternion):
+                self._start_slew(rec)
+
+    def _start_slew(self, rec: CommandRecord) -> None:
+        if self._slew is not None:
+            self.queue.stamp(self._slew[0], FAILED, self.t_s, f"superseded by command {rec.id}")
+        self._slew = (rec, self.cycle + self.cycle_at(self.fsw.slew_timeout_s))
+
+    def _on_fsw_event(self, code: int) -> None:
+        if code == EVENT_SLEW_SETTLED and self._slew is not None:
+            self.queue.stamp(self._slew[0], COMPLETED, self.t_s)
+            self._slew = None
+
+    def _check_deadlines(self) -> None:
+        if self._slew is not None and self.cycle >= self._slew[1]:
+            self.fsw.stop_watching_slew()
+            self.queue.stamp(self._slew[0], FAILED, self.t_s,
+                             f"not inside the integral torque box within {self.fsw.slew_timeout_s:g} s")
+            self._slew = None
+
+    # -- output --------------------------------------------------------------
+    def emit(self, event: Event) -> None:
+        self.result.events.append(event)
+        for listener in self.listeners:
+            listener.on_event(event)
+
+    def frame(self) -> dict:
+        mode, numbers = self._sample()
+        return telemetry.as_dict(mode, numbers, self.sc.n_wheels)
+
+    def _sample(self):
+        return telemetry.sample(self.t_s, self.x, self.truth_params.body, self.fsw.state, self.sensors,
+                                self.act_applied)
+
+    def _record(self) -> None:
+        mode, numbers = self._sample()
+        self._modes.append(mode)
+        self._rows.append(numbers)
+        if self.listeners:
+            frame = telemetry.as_dict(mode, numbers, self.sc.n_wheels)
+            for listener in self.listeners:
+                listener.on_telemetry(frame)
+
+    # -- stepping ------------------------------------------------------------
+    def _noise_rows(self) -> int:
+        if self._noise_row == self._noise.shape[0]:
+            self._noise = self.rng.standard_normal((NOISE_BLOCK_CYCLES, self.n_noise))
+            self._noise_row = 0
+        return self._noise.shape[0] - self._noise_row
+
+    def _next_stop(self, limit: int) -> int:
+        stops = [limit, (self.cycle // self.tlm_every + 1) * self.tlm_every]
+        due = self.queue.next_due_cycle()
+        if due is not None:
+            stops.append(due)
+        if self._slew is not None:
+            stops.append(self._slew[1])
+        return max(min(stops), self.cycle + 1)
+
+    def advance_to(self, target_cycle: int) -> None:
+        """Run control cycles until `target_cycle` (capped at the run's end)."""
+        target_cycle = min(target_cycle, self.end_cycle)
+        while self.cycle < target_cycle:
+            self._deliver_due_commands()
+            self._check_deadlines()
+            if self.cycle % self.tlm_every == 0:
+                self._record()
+            n = min(self._next_stop(target_cycle) - self.cycle, self._noise_rows())
+            ran, code = advance(n, self.x, self.iru_state, self.truth_params, self._noise, self._noise_row,
+                                self.sensors, self.fsw.state, self.fsw.params, self.act_applied, self.act_new,
+                                self.torque_ext_B, self.delay)
+            self.cycle += ran
+            self._noise_row += ran
+            if code:
+                self._on_fsw_event(code)
+
+    def run(self, progress: Callable[[float], None] | None = None) -> RunResult:
+        self.emit(Event(0.0, INFO, "runner", "run", f"run start: {self.scenario.name} seed {self.seed}"))
+        chunk = max(self.tlm_every, self.end_cycle // 200)
+        while self.cycle < self.end_cycle:
+            self.advance_to(self.cycle + chunk)
+            if progress:
+                progress(self.t_s)
+        self._deliver_due_commands()  # commands tagged at the very end still get their answer
+        if self.cycle % self.tlm_every == 0:
+            self._record()
+        self._finish()
+        return self.result
+
+    def _finish(self) -> None:
+        for rec in self.queue.records:
+            if not rec.done:
+                self.queue.stamp(rec, FAILED, self.t_s, "run ended before completion")
+        self.result.telemetry = telemetry.columns(self._modes, self._rows, self.fields, self.sc.n_wheels)
+        t = np.asarray(self.result.telemetry["t_s"], float)
+        for e in self.scenario.expect:
+            ok, measured = evaluate(e, t, self.result.telemetry[e.field])
+            self.result.expectations.append(ExpectationResult(e.describe(), ok, measured))
+            self.emit(Event(self.t_s, INFO if ok else ERROR, "runner", "expectation",
+                            f"{'PASS' if ok else 'FAIL'} {e.describe()}: {measured}"))
+        self.result.commands = list(self.queue.records)
+        self.emit(Event(self.t_s, INFO, "runner", "run", f"run end: {self.scenario.name}"))

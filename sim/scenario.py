@@ -1,0 +1,205 @@
+"""Scenario files: spacecraft + initial state + time-tagged commands + output
+specification + expectations, as YAML validated by pydantic.
+
+`load_scenario` turns every problem into one ScenarioError whose message names
+the file, the field path, what was expected and what was found.
+"""
+from __future__ import annotations
+
+from datetime import datetime, timezone
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import yaml
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+
+from sim import spacecraft as spacecraft_files
+from sim.commands import COMMAND_TYPES, Command
+from sim.expectations import Expectation
+from sim.modes import IMPLEMENTED, Mode
+from sim.spacecraft.model import Quat, Spacecraft, Vec3, check_unit_quaternion
+from sim.telemetry import always_fields, field_names
+
+DEFAULT_EPOCH = datetime(2026, 3, 20, 12, 0, 0, tzinfo=timezone.utc)
+
+
+class ScenarioError(Exception):
+    """A bad scenario file; the message is meant for the user as it is."""
+
+
+class Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class InitialState(Strict):
+    mode: str = Field("INERTIAL", description="initial mode name")
+    q_BN: Quat = (1.0, 0.0, 0.0, 0.0)
+    omega_BN_B_rad_s: Vec3 = (0.0, 0.0, 0.0)
+    h_wheels_Nms: list[float] | None = Field(None, description="axial momentum of each wheel; zero when absent")
+    target_q_RN: Quat | None = Field(None, description="initial Inertial target; the initial attitude when absent")
+
+    @field_validator("q_BN", "target_q_RN")
+    @classmethod
+    def _unit(cls, q):
+        return q if q is None else check_unit_quaternion(q)
+
+    @field_validator("mode")
+    @classmethod
+    def _known_mode(cls, m: str) -> str:
+        names = [x.name for x in IMPLEMENTED]
+        if m not in names:
+            raise ValueError(f"expected one of the implemented modes {names}, found {m!r}")
+        return m
+
+
+class ScheduledCommand(Strict):
+    """A time-tagged command: `t_s` beside the command's own fields."""
+    t_s: float = Field(ge=0, description="sim time at which the command is delivered")
+    command: Command
+
+    @model_validator(mode="before")
+    @classmethod
+    def _split(cls, data: Any) -> Any:
+        if isinstance(data, dict) and "command" not in data:
+            data = dict(data)
+            t = data.pop("t_s", None)
+            return {"t_s": t, "command": data} if t is not None else {"command": data}
+        return data
+
+
+class OutputSpec(Strict):
+    period_s: float = Field(1.0, gt=0, description="telemetry sample period")
+    fields: list[str] | None = Field(None, description="extra fields to record; all when absent")
+
+
+class Scenario(Strict):
+    name: str
+    description: str = ""
+    spacecraft: str
+    overrides: dict[str, Any] = Field(default_factory=dict, description="spacecraft parameters to change")
+    epoch_utc: datetime = DEFAULT_EPOCH
+    duration_s: float = Field(gt=0)
+    seed: int = Field(0, ge=0)
+    initial: InitialState = InitialState()
+    commands: list[ScheduledCommand] = Field(default_factory=list)
+    output: OutputSpec = OutputSpec()
+    expect: list[Expectation] = Field(default_factory=list)
+
+    @field_validator("epoch_utc")
+    @classmethod
+    def _utc(cls, t: datetime) -> datetime:
+        return t.replace(tzinfo=timezone.utc) if t.tzinfo is None else t.astimezone(timezone.utc)
+
+    @field_validator("spacecraft")
+    @classmethod
+    def _known_spacecraft(cls, name: str) -> str:
+        if name not in spacecraft_files.available():
+            raise ValueError(f"expected one of {spacecraft_files.available()}, found {name!r}")
+        return name
+
+    @model_validator(mode="after")
+    def _consistent(self) -> "Scenario":
+        for i, c in enumerate(self.commands):
+            if c.t_s > self.duration_s:
+                raise ValueError(f"commands.{i}.t_s: {c.t_s:g} s is past the end of the run "
+                                 f"(duration_s = {self.duration_s:g})")
+        return self
+
+    def spacecraft_config(self) -> Spacecraft:
+        return spacecraft_files.load_spacecraft(self.spacecraft, self.overrides)
+
+    def recorded_fields(self, sc: Spacecraft) -> list[str]:
+        names = field_names(sc.n_wheels)
+        if self.output.fields is None:
+            return names
+        wanted = set(always_fields(sc.n_wheels)) | set(self.output.fields) | {e.field for e in self.expect}
+        return [n for n in names if n in wanted]
+
+
+def _spacecraft_checks(s: Scenario, sc: Spacecraft) -> list[str]:
+    """Checks that need the spacecraft itself."""
+    problems = []
+    h = s.initial.h_wheels_Nms
+    if h is not None and len(h) != sc.n_wheels:
+        problems.append(f"initial.h_wheels_Nms: expected {sc.n_wheels} values (one per wheel), found {len(h)}")
+    cycle = sc.timing.control_dt_s
+    ratio = s.output.period_s / cycle
+    if abs(ratio - round(ratio)) > 1e-9:
+        problems.append(f"output.period_s: expected a whole multiple of the control cycle ({cycle:g} s), "
+                        f"found {s.output.period_s:g}")
+    known = field_names(sc.n_wheels)
+    for i, f in enumerate(s.output.fields or []):
+        if f not in known:
+            problems.append(f"output.fields.{i}: unknown field {f!r}; allowed: {', '.join(known)}")
+    for i, e in enumerate(s.expect):
+        if e.field not in known:
+            problems.append(f"expect.{i}.field: unknown field {e.field!r}; allowed: {', '.join(known)}")
+    return problems
+
+
+def _loc(loc: tuple) -> str:
+    parts = []
+    for p in loc:
+        # The discriminated union adds the tag and our wrapper a "command" level:
+        # neither is something the user wrote.
+        if p == "command" or p in COMMAND_TYPES:
+            continue
+        parts.append(str(p))
+    return ".".join(parts)
+
+
+def _format_errors(err: ValidationError, prefix: str = "") -> list[str]:
+    lines = []
+    for e in err.errors(include_url=False):
+        msg = e["msg"].removeprefix("Value error, ")
+        found = e.get("input")
+        where = prefix + _loc(e["loc"])
+        text = f"{where}: {msg}" if where else msg
+        if e["type"] not in ("value_error", "missing") and not isinstance(found, dict):
+            text += f" (found {found!r})"
+        lines.append(text)
+    return lines
+
+
+def parse_scenario(data: Any, source: str = "<scenario>") -> tuple[Scenario, Spacecraft]:
+    def fail(lines: list[str]):
+        raise ScenarioError("\n".join(f"{source}: {line}" for line in lines))
+
+    if not isinstance(data, dict):
+        fail([f"expected a mapping at the top level, found {type(data).__name__}"])
+    try:
+        s = Scenario.model_validate(data)
+    except ValidationError as err:
+        fail(_format_errors(err))
+    try:
+        sc = s.spacecraft_config()
+    except ValidationError as err:
+        fail(_format_errors(err, prefix="overrides."))
+    problems = _spacecraft_checks(s, sc)
+    if problems:
+        fail(problems)
+    return s, sc
+
+
+def load_scenario(path: str | Path) -> tuple[Scenario, Spacecraft]:
+    path = Path(path)
+    try:
+        text = path.read_text()
+    except OSError as err:
+        raise ScenarioError(f"{path}: cannot read the scenario file ({err.strerror})") from None
+    try:
+        data = yaml.safe_load(text)
+    except yaml.YAMLError as err:
+        mark = getattr(err, "problem_mark", None)
+        where = f":{mark.line + 1}:{mark.column + 1}" if mark else ""
+        raise ScenarioError(f"{path}{where}: not valid YAML ({getattr(err, 'problem', err)})") from None
+    return parse_scenario(data, str(path))
+
+
+def initial_target(s: Scenario) -> np.ndarray:
+    return np.array(s.initial.target_q_RN or s.initial.q_BN, float)
+
+
+def initial_mode(s: Scenario) -> Mode:
+    return Mode[s.initial.mode]

@@ -1,0 +1,150 @@
+"""Typed, validated spacecraft definition (the schema of sim/spacecraft/*.yaml).
+
+Every field carries its unit in the name where it is not SI. The YAML files
+cite a seed section, or say "assumption", beside every number.
+"""
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+
+Vec3 = tuple[float, float, float]
+Quat = tuple[float, float, float, float]
+Positive = Annotated[float, Field(gt=0)]
+NonNegative = Annotated[float, Field(ge=0)]
+
+UNIT_TOL = 1e-6
+
+
+class Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+def check_unit_quaternion(q: Quat) -> Quat:
+    norm = float(np.linalg.norm(q))
+    if abs(norm - 1.0) > UNIT_TOL:
+        raise ValueError(f"expected a unit quaternion [w, x, y, z] (norm 1 +- {UNIT_TOL:g}), found norm {norm:.9g}")
+    return q
+
+
+def check_unit_vector(v: Vec3) -> Vec3:
+    norm = float(np.linalg.norm(v))
+    if abs(norm - 1.0) > UNIT_TOL:
+        raise ValueError(f"expected a unit vector (norm 1 +- {UNIT_TOL:g}), found norm {norm:.9g}")
+    return v
+
+
+class Timing(Strict):
+    truth_dt_s: Positive = Field(description="fixed RK4 step of the truth model")
+    control_dt_s: Positive = Field(description="flight-software control cycle")
+    actuator_delay_cycles: Literal[0, 1] = Field(
+        1, description="cycles between sensor sample and actuator command taking effect")
+
+    @model_validator(mode="after")
+    def _cycle_is_whole_steps(self) -> "Timing":
+        ratio = self.control_dt_s / self.truth_dt_s
+        if abs(ratio - round(ratio)) > 1e-9 or round(ratio) < 1:
+            raise ValueError(
+                f"control_dt_s ({self.control_dt_s:g}) must be a whole multiple of truth_dt_s ({self.truth_dt_s:g})")
+        return self
+
+
+class Wheels(Strict):
+    axes_B: list[Vec3] = Field(min_length=3, description="spin axis of each wheel, unit vectors in B")
+    spin_inertia_kgm2: Positive
+    h_max_Nms: Positive = Field(description="momentum capacity; motor torque that would exceed it is cut")
+    torque_max_Nm: Positive = Field(description="hardware motor torque limit")
+    torque_limit_sw_Nm: Positive = Field(description="flight-software commanded torque limit")
+    viscous_Nm_per_rad_s: NonNegative = Field(description="viscous drag coefficient")
+    coulomb_Nm: NonNegative = Field(description="Coulomb drag torque")
+    coulomb_smoothing_rad_s: Positive = Field(
+        0.1, description="speed scale of tanh() used for the Coulomb sign, so RK4 sees a smooth force")
+
+    @field_validator("axes_B")
+    @classmethod
+    def _unit_axes(cls, axes: list[Vec3]) -> list[Vec3]:
+        for a in axes:
+            check_unit_vector(a)
+        if np.linalg.matrix_rank(np.array(axes)) < 3:
+            raise ValueError("wheel axes must span 3-D space (rank 3) for three-axis control")
+        return axes
+
+    @model_validator(mode="after")
+    def _sw_below_hw(self) -> "Wheels":
+        if self.torque_limit_sw_Nm > self.torque_max_Nm:
+            raise ValueError(
+                f"torque_limit_sw_Nm ({self.torque_limit_sw_Nm:g}) must not exceed torque_max_Nm ({self.torque_max_Nm:g})")
+        return self
+
+
+class Iru(Strict):
+    lsb_arcsec: Positive = Field(description="angle quantisation of the integrated-rate output")
+    arw_deg_per_sqrt_h: NonNegative = Field(description="angle random walk")
+    bias_deg_h: Vec3 = Field(description="constant rate bias per body axis")
+    rrw_deg_h_per_sqrt_h: NonNegative = Field(0.0, description="rate random walk (bias drift)")
+
+
+class StarTracker(Strict):
+    q_BS: Quat = Field(description="mounting: attitude of the sensor frame S in B; boresight is S's +Z")
+    noise_boresight_arcsec_3sigma: NonNegative
+    noise_transverse_arcsec_3sigma: NonNegative
+
+    @field_validator("q_BS")
+    @classmethod
+    def _unit(cls, q: Quat) -> Quat:
+        return check_unit_quaternion(q)
+
+
+class InertialControl(Strict):
+    """Seed 001 eq. (3) PID with the seed 000 integral torque box (option 3, hold)."""
+    kp_per_s2: Positive = Field(description="k_p; K_p = k_p * I")
+    kd_per_s: Positive = Field(description="k_d; K_d = k_d * I")
+    ki_per_s3: NonNegative = Field(description="k_i; K_i = k_i * I")
+    integrator_limit_rad_s: Positive = Field(description="per-axis limit of the integral of theta_e")
+    box_theta_lim_rad: Positive = Field(description="integral torque box attitude limit, per axis")
+    box_omega_lim_rad_s: Positive = Field(description="integral torque box rate limit, per axis")
+    attitude_limit_rad: Positive = Field(description="magnitude limit of theta_e (overshoot suppression)")
+
+
+class Fsw(Strict):
+    attitude_source: Literal["star_tracker", "iru"] = Field(
+        "star_tracker", description="fly a star tracker's quaternion, or propagate with the IRU")
+    star_tracker: int = Field(0, ge=0, description="index of the star tracker flown")
+    inertial: InertialControl
+    slew_timeout_s: Positive = Field(
+        description="a slew is complete once inside the integral torque box on every axis; not by then, it failed")
+
+
+class Spacecraft(Strict):
+    name: str
+    description: str = ""
+    mass_kg: Positive
+    inertia_B_kgm2: tuple[Vec3, Vec3, Vec3] = Field(description="total inertia about the centre of mass, B axes")
+    timing: Timing
+    wheels: Wheels
+    iru: Iru
+    star_trackers: list[StarTracker] = Field(min_length=1)
+    fsw: Fsw
+
+    @field_validator("inertia_B_kgm2")
+    @classmethod
+    def _positive_definite(cls, m):
+        a = np.array(m, dtype=float)
+        if not np.allclose(a, a.T, rtol=0, atol=1e-9):
+            raise ValueError("inertia must be symmetric")
+        if np.linalg.eigvalsh(a).min() <= 0:
+            raise ValueError("inertia must be positive definite")
+        return m
+
+    @model_validator(mode="after")
+    def _tracker_exists(self) -> "Spacecraft":
+        if self.fsw.star_tracker >= len(self.star_trackers):
+            raise ValueError(
+                f"fsw.star_tracker = {self.fsw.star_tracker} but only {len(self.star_trackers)} star tracker(s) defined")
+        return self
+
+    @property
+    def n_wheels(self) -> int:
+        return len(self.wheels.axes_B)
