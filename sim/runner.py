@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Callable, Protocol
+from typing import Callable
 
 import numpy as np
 
@@ -31,9 +31,17 @@ from sim.truth import plant
 NOISE_BLOCK_CYCLES = 4096  # rows drawn at once; fixed, so draws never depend on segmenting
 
 
-class Listener(Protocol):
-    def on_event(self, event: Event) -> None: ...
-    def on_telemetry(self, frame: dict) -> None: ...
+class Listener:
+    """What a run tells the outside world; override what you need."""
+
+    def on_event(self, event: Event) -> None:
+        pass
+
+    def on_command(self, rec: CommandRecord, stage: Stage) -> None:
+        pass
+
+    def on_telemetry(self, frame: dict) -> None:
+        pass
 
 
 @dataclass
@@ -91,6 +99,7 @@ class Runner:
         self._slew: tuple[CommandRecord, int] | None = None  # executing slew and its deadline cycle
 
         self.queue = CommandQueue(self._on_stage)
+        self.emit(Event(0.0, INFO, "runner", "run", f"run start: {scenario.name} seed {self.seed}"))
         for c in scenario.commands:
             self.submit(c.command, "scenario", c.t_s)
 
@@ -109,6 +118,8 @@ class Runner:
         return self.queue.submit(command, source, due, max(self.cycle_at(due), self.cycle), self.t_s)
 
     def _on_stage(self, rec: CommandRecord, st: Stage) -> None:
+        for listener in self.listeners:
+            listener.on_command(rec, st)
         severity = WARNING if st.name in (REJECTED, FAILED) else INFO
         msg = f"{rec.describe()} {st.name}" + (f": {st.reason}" if st.reason else "")
         self.emit(Event(st.t_s, severity, "ground" if st.name == "queued" else "fsw", "command", msg,
@@ -201,7 +212,6 @@ class Runner:
                 self._on_fsw_event(code)
 
     def run(self, progress: Callable[[float], None] | None = None) -> RunResult:
-        self.emit(Event(0.0, INFO, "runner", "run", f"run start: {self.scenario.name} seed {self.seed}"))
         chunk = max(self.tlm_every, self.end_cycle // 200)
         while self.cycle < self.end_cycle:
             self.advance_to(self.cycle + chunk)

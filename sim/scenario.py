@@ -6,6 +6,7 @@ the file, the field path, what was expected and what was found.
 """
 from __future__ import annotations
 
+import typing
 from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any
@@ -149,16 +150,55 @@ def _loc(loc: tuple) -> str:
     return ".".join(parts)
 
 
-def _format_errors(err: ValidationError, prefix: str = "") -> list[str]:
+def _first_model(annotation) -> type[BaseModel] | None:
+    """The model inside an annotation such as list[X], X | None, Annotated[Union[X, ...], ...]."""
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return annotation
+    for arg in typing.get_args(annotation):
+        found = _first_model(arg)
+        if found is not None:
+            return found
+    return None
+
+
+def _allowed_fields(root: type[BaseModel], loc: tuple) -> list[str]:
+    """The field names allowed where loc's last element was found."""
+    model: type[BaseModel] | None = root
+    for p in loc[:-1]:
+        if p in COMMAND_TYPES:
+            model = COMMAND_TYPES[p]
+        elif isinstance(p, str):
+            if model is None or p not in model.model_fields:
+                return []
+            model = _first_model(model.model_fields[p].annotation)
+    if model is None:
+        return []
+    names = list(model.model_fields)
+    return ["t_s", *names] if model in COMMAND_TYPES.values() else names
+
+
+def _message(e: dict, root: type[BaseModel]) -> tuple[tuple, str]:
+    """(where, what) of one pydantic error, in the user's words."""
+    loc, kind, found = e["loc"], e["type"], e.get("input")
+    if kind == "extra_forbidden":
+        allowed = _allowed_fields(root, loc)
+        return loc, f"unknown field {loc[-1]!r}" + (f"; allowed: {', '.join(allowed)}" if allowed else "")
+    if kind in ("union_tag_invalid", "union_tag_not_found"):
+        allowed = ", ".join(COMMAND_TYPES)
+        what = f"unknown command type {found.get('type')!r}" if kind == "union_tag_invalid" else "missing"
+        return (*loc, "type"), f"{what}; allowed: {allowed}"
+    msg = e["msg"].removeprefix("Value error, ")
+    if kind not in ("value_error", "missing") and not isinstance(found, dict):
+        msg += f" (found {found!r})"
+    return loc, msg
+
+
+def _format_errors(err: ValidationError, root: type[BaseModel], prefix: str = "") -> list[str]:
     lines = []
     for e in err.errors(include_url=False):
-        msg = e["msg"].removeprefix("Value error, ")
-        found = e.get("input")
-        where = prefix + _loc(e["loc"])
-        text = f"{where}: {msg}" if where else msg
-        if e["type"] not in ("value_error", "missing") and not isinstance(found, dict):
-            text += f" (found {found!r})"
-        lines.append(text)
+        loc, msg = _message(e, root)
+        where = prefix + _loc(loc)
+        lines.append(f"{where}: {msg}" if where else msg)
     return lines
 
 
@@ -166,16 +206,18 @@ def parse_scenario(data: Any, source: str = "<scenario>") -> tuple[Scenario, Spa
     def fail(lines: list[str]):
         raise ScenarioError("\n".join(f"{source}: {line}" for line in lines))
 
+    if data is None:
+        fail(["the file is empty; expected a scenario mapping (name, spacecraft, duration_s, ...)"])
     if not isinstance(data, dict):
         fail([f"expected a mapping at the top level, found {type(data).__name__}"])
     try:
         s = Scenario.model_validate(data)
     except ValidationError as err:
-        fail(_format_errors(err))
+        fail(_format_errors(err, Scenario))
     try:
         sc = s.spacecraft_config()
     except ValidationError as err:
-        fail(_format_errors(err, prefix="overrides."))
+        fail(_format_errors(err, Spacecraft, prefix="overrides."))
     problems = _spacecraft_checks(s, sc)
     if problems:
         fail(problems)

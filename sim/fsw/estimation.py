@@ -1,7 +1,6 @@
 """Attitude estimate without the Kalman filter (seed 001 "Attitude
 determination and targeting": with the EKF disabled the solution is a star
 tracker's quaternion or the IRU-propagated attitude)."""
-import numpy as np
 from numba import njit
 
 from sim.attitude import quat_conj, quat_mul, quat_propagate

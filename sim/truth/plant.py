@@ -10,7 +10,7 @@ import numpy as np
 from numba import njit
 
 from sim.spacecraft.model import Spacecraft
-from sim.truth.rigid_body import IH, IQ, IW, BodyParams, make_body_params, rk4_step, state_size
+from sim.truth.rigid_body import IH, IQ, IW, BodyParams, initial_state, make_body_params, rk4_step  # noqa: F401 (initial_state: re-exported for the runner)
 from sim.truth.sensors import iru, star_tracker
 
 ARCSEC = np.pi / 180.0 / 3600.0
@@ -42,15 +42,6 @@ def make_truth_params(sc: Spacecraft) -> TruthParams:
                    t.noise_boresight_arcsec_3sigma] for t in sc.star_trackers]) / 3.0 * ARCSEC)
     substeps = int(round(dt / sc.timing.truth_dt_s))
     return TruthParams(body, iru_p, st_p, sc.timing.truth_dt_s, substeps)
-
-
-def initial_state(q_BN, omega_BN_B_rad_s, h_wheels_Nms) -> np.ndarray:
-    n = len(h_wheels_Nms)
-    x = np.zeros(state_size(n))
-    x[IQ:IQ + 4] = q_BN
-    x[IW:IW + 3] = omega_BN_B_rad_s
-    x[IH:IH + n] = h_wheels_Nms
-    return x
 
 
 def initial_iru_state(sc: Spacecraft, p: TruthParams, x: np.ndarray) -> np.ndarray:

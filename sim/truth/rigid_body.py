@@ -48,6 +48,16 @@ def state_size(n_wheels: int) -> int:
     return IH + n_wheels + 3
 
 
+def initial_state(q_BN, omega_BN_B_rad_s, h_wheels_Nms) -> np.ndarray:
+    """A state vector (theta_int starts at zero)."""
+    n = len(h_wheels_Nms)
+    x = np.zeros(state_size(n))
+    x[IQ:IQ + 4] = q_BN
+    x[IW:IW + 3] = omega_BN_B_rad_s
+    x[IH:IH + n] = h_wheels_Nms
+    return x
+
+
 @njit(cache=True)
 def derivatives(x, p, u_cmd_Nm, torque_ext_B, dx):
     """dx/dt written into dx. Scalar code: it runs 4 times per RK4 step."""

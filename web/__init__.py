@@ -1,0 +1,2 @@
+"""The viser operations console (see the console issue); talks to the
+service, never to sim internals."""
