@@ -1,8 +1,10 @@
 """The run archive: SQLite (WAL), one database holding runs, commands with
 every lifecycle stage, events and telemetry frames.
 
-Telemetry frames are stored one row per sample as JSON (the field set differs
-between spacecraft and scenarios); `telemetry()` reads fields back by time.
+Telemetry frames are stored one row per sample: the mode, and the numeric
+fields as a float64 blob in the order runs.fields_json lists them (the field
+set differs between spacecraft and scenarios; a blob is exact and ~20 times
+cheaper to write than JSON). `telemetry()` reads fields back by time.
 Writes are batched and committed at least every `commit_every_s` of wall time,
 so a killed process loses at most that much.
 """
@@ -14,9 +16,19 @@ import time
 from datetime import datetime, timezone
 from pathlib import Path
 
+import numpy as np
+
 from sim.commands import CommandRecord, Stage
 from sim.events import Event, utc_iso
 from sim.runner import Listener
+from sim.telemetry import Frame
+
+SCHEMA_VERSION = 1
+
+
+class ArchiveError(Exception):
+    """An archive this version cannot use; the message says why and what to do."""
+
 
 SCHEMA = """
 CREATE TABLE IF NOT EXISTS runs (
@@ -32,7 +44,9 @@ CREATE TABLE IF NOT EXISTS command_stages (
 CREATE TABLE IF NOT EXISTS events (
     run_id INTEGER NOT NULL, t_s REAL NOT NULL, utc TEXT NOT NULL, severity TEXT NOT NULL,
     source TEXT NOT NULL, kind TEXT NOT NULL, message TEXT NOT NULL);
-CREATE TABLE IF NOT EXISTS telemetry (run_id INTEGER NOT NULL, t_s REAL NOT NULL, frame_json TEXT NOT NULL);
+CREATE TABLE IF NOT EXISTS telemetry (
+    run_id INTEGER NOT NULL, t_s REAL NOT NULL, mode TEXT NOT NULL,
+    value_blob BLOB NOT NULL);  -- float64 values of the run's numeric fields, in runs.fields_json order
 CREATE INDEX IF NOT EXISTS telemetry_run_t ON telemetry (run_id, t_s);
 CREATE INDEX IF NOT EXISTS events_run_t ON events (run_id, t_s);
 """
@@ -43,11 +57,21 @@ class Archive:
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self.db = sqlite3.connect(self.path, check_same_thread=False)
+        self._check_version()
         self.db.execute("PRAGMA journal_mode=WAL")
         self.db.execute("PRAGMA synchronous=NORMAL")
         self.db.executescript(SCHEMA)
+        self.db.execute(f"PRAGMA user_version={SCHEMA_VERSION}")
         self.commit_every_s = commit_every_s
         self._last_commit = time.monotonic()
+
+    def _check_version(self) -> None:
+        version = self.db.execute("PRAGMA user_version").fetchone()[0]
+        has_tables = self.db.execute("SELECT count(*) FROM sqlite_master WHERE type='table'").fetchone()[0]
+        if has_tables and version != SCHEMA_VERSION:
+            self.db.close()
+            raise ArchiveError(f"{self.path}: archive schema version {version}, this program writes version "
+                               f"{SCHEMA_VERSION}; choose another archive path or move this file away")
 
     def close(self) -> None:
         self.db.commit()
@@ -78,10 +102,17 @@ class Archive:
 
     def telemetry(self, run_id: int, fields: list[str], start_s: float = float("-inf"),
                   end_s: float = float("inf")) -> dict[str, list]:
-        rows = self.db.execute("SELECT frame_json FROM telemetry WHERE run_id = ? AND t_s >= ? AND t_s <= ?"
+        recorded = json.loads(self.db.execute("SELECT fields_json FROM runs WHERE id = ?", (run_id,)).fetchone()[0])
+        unknown = [f for f in fields if f not in recorded]
+        if unknown:
+            raise KeyError(f"run {run_id} did not record {', '.join(unknown)}; recorded: {', '.join(recorded)}")
+        numeric = [f for f in recorded if f != "mode"]
+        rows = self.db.execute("SELECT mode, value_blob FROM telemetry WHERE run_id = ? AND t_s >= ? AND t_s <= ?"
                                " ORDER BY t_s", (run_id, start_s, end_s)).fetchall()
-        frames = [json.loads(r[0]) for r in rows]
-        return {f: [fr.get(f) for fr in frames] for f in fields}
+        table = np.array([np.frombuffer(r[1], dtype=np.float64) for r in rows]).reshape(len(rows), len(numeric))
+        out = {f: table[:, i].tolist() for i, f in enumerate(numeric)}
+        out["mode"] = [r[0] for r in rows]
+        return {f: out[f] for f in fields}
 
     def events(self, run_id: int) -> list[tuple]:
         return self.db.execute("SELECT t_s, utc, severity, source, kind, message FROM events WHERE run_id = ?"
@@ -112,9 +143,9 @@ class ArchiveRecorder(Listener):
         db.execute("INSERT INTO command_stages VALUES (?, ?, ?, ?, ?, ?)",
                    (self.run_id, rec.id, st.name, st.t_s, utc_iso(self.epoch, st.t_s), st.reason))
 
-    def on_telemetry(self, frame: dict) -> None:
-        self.archive.db.execute("INSERT INTO telemetry VALUES (?, ?, ?)",
-                                (self.run_id, frame["t_s"], json.dumps({f: frame[f] for f in self.fields})))
+    def on_telemetry(self, frame: Frame) -> None:
+        self.archive.db.execute("INSERT INTO telemetry VALUES (?, ?, ?, ?)",
+                                (self.run_id, frame.t_s, frame.mode, frame.values.tobytes()))
         self.archive.maybe_commit()
 
     def finish(self, status: str) -> None:

@@ -33,11 +33,11 @@ def _progress_bar(total_s: float):
 def run_headless(scenario_path: str | Path, seed: int | None, out_dir: str | Path) -> int:
     """Run a scenario file and write telemetry.csv, events.csv and archive.sqlite
     into out_dir. Returns the process exit code."""
-    from server.archive import Archive
+    from server.archive import Archive, ArchiveError
     from sim.events import CsvEventWriter
     from sim.runner import Listener, Runner
     from sim.scenario import ScenarioError, load_scenario
-    from sim.telemetry import CsvTelemetryWriter
+    from sim.telemetry import CsvTelemetryWriter, Layout
 
     try:
         scenario, sc = load_scenario(scenario_path)
@@ -47,11 +47,16 @@ def run_headless(scenario_path: str | Path, seed: int | None, out_dir: str | Pat
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     seed = scenario.seed if seed is None else seed
-    fields = scenario.recorded_fields(sc)
+    layout = Layout(scenario.recorded_fields(sc), sc.n_wheels)
+    try:
+        archive = Archive(out / "archive.sqlite")
+    except ArchiveError as err:
+        print(f"error: {err}", file=sys.stderr)
+        return EXIT_BAD_INPUT
 
     with open(out / "telemetry.csv", "w", newline="") as tlm_file, \
             open(out / "events.csv", "w", newline="") as ev_file:
-        tlm = CsvTelemetryWriter(tlm_file, fields)
+        tlm = CsvTelemetryWriter(tlm_file, layout)
         events = CsvEventWriter(ev_file, scenario.epoch_utc)
 
         class Files(Listener):
@@ -61,8 +66,7 @@ def run_headless(scenario_path: str | Path, seed: int | None, out_dir: str | Pat
             def on_telemetry(self, frame):
                 tlm.write(frame)
 
-        archive = Archive(out / "archive.sqlite")
-        recorder = archive.start_run(scenario, seed, fields)
+        recorder = archive.start_run(scenario, seed, layout.fields)
         update, close = _progress_bar(scenario.duration_s)
         try:
             result = Runner(scenario, sc, seed, [Files(), recorder]).run(progress=update)

@@ -40,7 +40,7 @@ class Listener:
     def on_command(self, rec: CommandRecord, stage: Stage) -> None:
         pass
 
-    def on_telemetry(self, frame: dict) -> None:
+    def on_telemetry(self, frame: telemetry.Frame) -> None:
         pass
 
 
@@ -70,10 +70,9 @@ class Runner:
         self.seed = scenario.seed if seed is None else seed
         self.rng = np.random.default_rng(self.seed)
         self.listeners = list(listeners or [])
-        self.fields = scenario.recorded_fields(sc)
+        self.layout = telemetry.Layout(scenario.recorded_fields(sc), sc.n_wheels)
         self.result = RunResult()
-        self._modes: list[str] = []
-        self._rows: list[np.ndarray] = []
+        self._frames: list[telemetry.Frame] = []
 
         self.cycle_ns = round(sc.timing.control_dt_s * 1e9)
         self.cycle = 0
@@ -161,22 +160,17 @@ class Runner:
         for listener in self.listeners:
             listener.on_event(event)
 
-    def frame(self) -> dict:
-        mode, numbers = self._sample()
-        return telemetry.as_dict(mode, numbers, self.sc.n_wheels)
-
-    def _sample(self):
-        return telemetry.sample(self.t_s, self.x, self.truth_params.body, self.fsw.state, self.sensors,
-                                self.act_applied)
+    def frame(self) -> telemetry.Frame:
+        """The recorded fields now."""
+        mode, numbers = telemetry.sample(self.t_s, self.x, self.truth_params.body, self.fsw.state, self.sensors,
+                                         self.act_applied)
+        return telemetry.Frame(mode, numbers[self.layout.index], self.layout)
 
     def _record(self) -> None:
-        mode, numbers = self._sample()
-        self._modes.append(mode)
-        self._rows.append(numbers)
-        if self.listeners:
-            frame = telemetry.as_dict(mode, numbers, self.sc.n_wheels)
-            for listener in self.listeners:
-                listener.on_telemetry(frame)
+        frame = self.frame()
+        self._frames.append(frame)
+        for listener in self.listeners:
+            listener.on_telemetry(frame)
 
     # -- stepping ------------------------------------------------------------
     def _noise_rows(self) -> int:
@@ -227,7 +221,7 @@ class Runner:
         for rec in self.queue.records:
             if not rec.done:
                 self.queue.stamp(rec, FAILED, self.t_s, "run ended before completion")
-        self.result.telemetry = telemetry.columns(self._modes, self._rows, self.fields, self.sc.n_wheels)
+        self.result.telemetry = telemetry.columns(self._frames, self.layout)
         t = np.asarray(self.result.telemetry["t_s"], float)
         for e in self.scenario.expect:
             ok, measured = evaluate(e, t, self.result.telemetry[e.field])

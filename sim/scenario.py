@@ -113,7 +113,7 @@ class Scenario(Strict):
     def recorded_fields(self, sc: Spacecraft) -> list[str]:
         names = field_names(sc.n_wheels)
         if self.output.fields is None:
-            return names
+            return list(names)
         wanted = set(always_fields(sc.n_wheels)) | set(self.output.fields) | {e.field for e in self.expect}
         return [n for n in names if n in wanted]
 

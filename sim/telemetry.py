@@ -8,7 +8,6 @@ Flight-software values are those of the last completed control cycle.
 """
 from __future__ import annotations
 
-import csv
 import functools
 from typing import IO
 
@@ -77,36 +76,53 @@ def sample(t_s: float, x: np.ndarray, body, fsw_state, sensors, act) -> tuple[st
             _numbers(t_s, x, body, fsw_state, sensors.iru_rate_B_rad_s, act.wheel_torque_Nm))
 
 
-def as_dict(mode: str, numbers: np.ndarray, n_wheels: int) -> dict:
-    values = numbers.tolist()
-    values.insert(1, mode)
-    return dict(zip(field_names(n_wheels), values))
+class Layout:
+    """The fields a run records and where they sit among a sample's numbers.
+    Recorded fields keep field_names() order, so they open with t_s, mode."""
+
+    def __init__(self, fields: list[str], n_wheels: int):
+        numeric = [n for n in field_names(n_wheels) if n != "mode"]
+        if list(fields[:2]) != ["t_s", "mode"]:
+            raise ValueError(f"recorded fields must open with t_s, mode; found {fields[:2]}")
+        self.fields = list(fields)
+        self.numeric_fields = [f for f in fields if f != "mode"]
+        self.index = np.array([numeric.index(f) for f in self.numeric_fields], dtype=np.int64)
 
 
-def columns(modes: list[str], rows: list[np.ndarray], fields: list[str], n_wheels: int) -> dict[str, list]:
+class Frame:
+    """One recorded sample: the mode and the recorded numeric fields, in order."""
+    __slots__ = ("mode", "values", "layout")
+
+    def __init__(self, mode: str, values: np.ndarray, layout: Layout):
+        self.mode, self.values, self.layout = mode, values, layout
+
+    @property
+    def t_s(self) -> float:
+        return float(self.values[0])
+
+    def as_dict(self) -> dict:
+        out = dict(zip(self.layout.numeric_fields, self.values.tolist()))
+        out["mode"] = self.mode
+        return {f: out[f] for f in self.layout.fields}
+
+
+def columns(frames: list[Frame], layout: Layout) -> dict[str, list]:
     """Recorded samples as one list per field."""
-    names = field_names(n_wheels)
-    table = np.array(rows).reshape(len(rows), len(names) - 1)
-    out = {}
-    for f in fields:
-        i = names.index(f)
-        out[f] = list(modes) if i == 1 else table[:, i if i == 0 else i - 1].tolist()
-    return out
-
-
-def format_value(v) -> str:
-    """repr() of a float is the shortest string that reads back to the same
-    double: exact, and byte-identical from run to run."""
-    return v if isinstance(v, str) else repr(v)
+    table = np.array([f.values for f in frames]).reshape(len(frames), len(layout.numeric_fields))
+    out = {f: table[:, i].tolist() for i, f in enumerate(layout.numeric_fields)}
+    out["mode"] = [f.mode for f in frames]
+    return {f: out[f] for f in layout.fields}
 
 
 class CsvTelemetryWriter:
-    """Writes frames to CSV with a header row, keeping the recorded fields."""
+    """Writes frames to CSV with a header row. Floats are written with repr(),
+    the shortest string that reads back to the same double: exact, and
+    byte-identical from run to run."""
 
-    def __init__(self, stream: IO[str], fields: list[str]):
-        self.fields = fields
-        self._w = csv.writer(stream, lineterminator="\n")
-        self._w.writerow(fields)
+    def __init__(self, stream: IO[str], layout: Layout):
+        self._stream = stream
+        stream.write(",".join(layout.fields) + "\n")
 
-    def write(self, frame: dict) -> None:
-        self._w.writerow([format_value(frame[f]) for f in self.fields])
+    def write(self, frame: Frame) -> None:
+        v = frame.values.tolist()
+        self._stream.write(f"{v[0]!r},{frame.mode}," + ",".join(map(repr, v[1:])) + "\n")
