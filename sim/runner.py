@@ -25,7 +25,7 @@ from sim.fsw.flight_software import FlightSoftware
 from sim.loop import advance
 from sim.records import empty_actuator_command, empty_sensor_record
 from sim.scenario import Scenario, initial_mode, initial_target
-from sim.spacecraft.model import Spacecraft
+from sim.spacecraft.definition import Spacecraft
 from sim.truth import plant
 
 NOISE_BLOCK_CYCLES = 4096  # rows drawn at once; fixed, so draws never depend on segmenting

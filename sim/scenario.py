@@ -19,7 +19,8 @@ from sim import spacecraft as spacecraft_files
 from sim.commands import COMMAND_TYPES, Command
 from sim.expectations import Expectation
 from sim.modes import IMPLEMENTED, Mode
-from sim.spacecraft.model import Quat, Spacecraft, Vec3, check_unit_quaternion
+from sim.spacecraft.definition import Spacecraft
+from sim.spacecraft.model import Quat, Vec3, check_unit_quaternion
 from sim.telemetry import always_fields, field_names
 
 DEFAULT_EPOCH = datetime(2026, 3, 20, 12, 0, 0, tzinfo=timezone.utc)

@@ -16,7 +16,7 @@ from sim.fsw.distribution import distribution_matrix
 from sim.fsw.estimation import SOURCE_IRU, SOURCE_STAR_TRACKER
 from sim.fsw.pid import PidParams
 from sim.modes import Mode
-from sim.spacecraft.model import Spacecraft
+from sim.spacecraft.definition import Spacecraft
 
 
 @dataclass

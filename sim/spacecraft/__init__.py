@@ -6,7 +6,7 @@ from pathlib import Path
 
 import yaml
 
-from sim.spacecraft.model import Spacecraft
+from sim.spacecraft.definition import Spacecraft
 
 HERE = Path(__file__).parent
 

@@ -1,4 +1,5 @@
-"""Typed, validated spacecraft definition (the schema of sim/spacecraft/*.yaml).
+"""Typed, validated spacecraft definition: shared types and the core sections
+(the aggregate is sim/spacecraft/definition.py).
 
 Every field carries its unit in the name where it is not SI. The YAML files
 cite a seed section, or say "assumption", beside every number.
@@ -115,36 +116,3 @@ class Fsw(Strict):
     inertial: InertialControl
     slew_timeout_s: Positive = Field(
         description="a slew is complete once inside the integral torque box on every axis; not by then, it failed")
-
-
-class Spacecraft(Strict):
-    name: str
-    description: str = ""
-    mass_kg: Positive
-    inertia_B_kgm2: tuple[Vec3, Vec3, Vec3] = Field(description="total inertia about the centre of mass, B axes")
-    timing: Timing
-    wheels: Wheels
-    iru: Iru
-    star_trackers: list[StarTracker] = Field(min_length=1)
-    fsw: Fsw
-
-    @field_validator("inertia_B_kgm2")
-    @classmethod
-    def _positive_definite(cls, m):
-        a = np.array(m, dtype=float)
-        if not np.allclose(a, a.T, rtol=0, atol=1e-9):
-            raise ValueError("inertia must be symmetric")
-        if np.linalg.eigvalsh(a).min() <= 0:
-            raise ValueError("inertia must be positive definite")
-        return m
-
-    @model_validator(mode="after")
-    def _tracker_exists(self) -> "Spacecraft":
-        if self.fsw.star_tracker >= len(self.star_trackers):
-            raise ValueError(
-                f"fsw.star_tracker = {self.fsw.star_tracker} but only {len(self.star_trackers)} star tracker(s) defined")
-        return self
-
-    @property
-    def n_wheels(self) -> int:
-        return len(self.wheels.axes_B)

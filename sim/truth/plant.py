@@ -9,7 +9,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from sim.spacecraft.model import Spacecraft
+from sim.spacecraft.definition import Spacecraft
 from sim.truth.rigid_body import IH, IQ, IW, BodyParams, initial_state, make_body_params, rk4_step  # noqa: F401 (initial_state: re-exported for the runner)
 from sim.truth.sensors import iru, star_tracker
 
