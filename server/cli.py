@@ -38,6 +38,7 @@ def run_headless(scenario_path: str | Path, seed: int | None, out_dir: str | Pat
     from sim.runner import Listener, Runner
     from sim.scenario import ScenarioError, load_scenario
     from sim.telemetry import CsvTelemetryWriter, Layout
+    from sim.telemetry_fields import names_for
 
     try:
         scenario, sc = load_scenario(scenario_path)
@@ -47,7 +48,7 @@ def run_headless(scenario_path: str | Path, seed: int | None, out_dir: str | Pat
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     seed = scenario.seed if seed is None else seed
-    layout = Layout(scenario.recorded_fields(sc), sc.n_wheels)
+    layout = Layout(scenario.recorded_fields(sc), names_for(sc))
     try:
         archive = Archive(out / "archive.sqlite")
     except ArchiveError as err:

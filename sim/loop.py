@@ -9,24 +9,27 @@ is here, in the runner's code: sim.truth and sim.fsw never meet otherwise.
 from numba import njit
 
 from sim.fsw.cycle import fsw_cycle
-from sim.truth.plant import propagate, sense
+from sim.records import copy_command
+from sim.truth.plant import propagate, sense, set_environment
 
 
 @njit(cache=True)
-def advance(n_cycles, x, iru_state, tp, noise, noise_row, rec, s, fp, act_applied, act_new, torque_ext_B, delay):
-    """Run up to n_cycles; return (cycles run, last event code).
+def advance(n_cycles, cycle0, cycle_s, ts, tp, noise, noise_row, rec, s, fp, act_applied, act_new, delay):
+    """Run up to n_cycles from control cycle number cycle0; return (cycles run,
+    last event code).
 
     With a one-cycle actuator delay the command computed from the samples at
     t_k drives the plant over [t_k+1, t_k+2]; with none, over [t_k, t_k+1].
     """
     for k in range(n_cycles):
-        sense(x, iru_state, tp, noise[noise_row + k], rec)
+        set_environment(ts, tp, (cycle0 + k) * cycle_s)
+        sense(ts, tp, noise[noise_row + k], rec)
         event = fsw_cycle(rec, s, fp, act_new)
         if delay == 0:
-            act_applied.wheel_torque_Nm[:] = act_new.wheel_torque_Nm
-        propagate(x, tp, act_applied.wheel_torque_Nm, torque_ext_B)
+            copy_command(act_new, act_applied)
+        propagate(ts, tp, act_applied)
         if delay != 0:
-            act_applied.wheel_torque_Nm[:] = act_new.wheel_torque_Nm
+            copy_command(act_new, act_applied)
         if event != 0:
             return k + 1, event
     return n_cycles, 0

@@ -7,6 +7,7 @@ Neither side imports the other: they share only these layouts.
 from typing import NamedTuple
 
 import numpy as np
+from numba import njit
 
 
 class SensorRecord(NamedTuple):
@@ -18,6 +19,8 @@ class SensorRecord(NamedTuple):
 
 class ActuatorCommand(NamedTuple):
     wheel_torque_Nm: np.ndarray   # (n_wheels,) motor torque commands
+    thruster_pulses: np.ndarray   # (n_thrusters,) pulses this cycle, 0..max_pulses_per_cycle (float)
+    engine_on: np.ndarray         # (1,) main engine on for the whole cycle: 1.0, else 0.0
 
 
 def empty_sensor_record(n_star_trackers: int) -> SensorRecord:
@@ -26,5 +29,13 @@ def empty_sensor_record(n_star_trackers: int) -> SensorRecord:
     return SensorRecord(np.zeros(3), np.ones(3, dtype=np.bool_), q, np.ones(n_star_trackers, dtype=np.bool_))
 
 
-def empty_actuator_command(n_wheels: int) -> ActuatorCommand:
-    return ActuatorCommand(np.zeros(n_wheels))
+def empty_actuator_command(n_wheels: int, n_thrusters: int) -> ActuatorCommand:
+    return ActuatorCommand(np.zeros(n_wheels), np.zeros(n_thrusters), np.zeros(1))
+
+
+@njit(cache=True)
+def copy_command(src: ActuatorCommand, dst: ActuatorCommand) -> None:
+    """Latch a command (numba-compatible: called from the cycle loop)."""
+    dst.wheel_torque_Nm[:] = src.wheel_torque_Nm
+    dst.thruster_pulses[:] = src.thruster_pulses
+    dst.engine_on[:] = src.engine_on

@@ -14,7 +14,7 @@ from typing import Callable
 
 import numpy as np
 
-from sim import telemetry
+from sim import telemetry, telemetry_fields
 from sim.command_queue import CommandQueue
 from sim.commands import ACCEPTED, COMPLETED, EXECUTING, FAILED, REJECTED, CommandBase, CommandRecord, Stage
 from sim.commands import SetTargetQuaternion
@@ -26,7 +26,7 @@ from sim.loop import advance
 from sim.records import empty_actuator_command, empty_sensor_record
 from sim.scenario import Scenario, initial_mode, initial_target
 from sim.spacecraft.definition import Spacecraft
-from sim.truth import plant
+from sim.truth import build, plant
 
 NOISE_BLOCK_CYCLES = 4096  # rows drawn at once; fixed, so draws never depend on segmenting
 
@@ -70,7 +70,7 @@ class Runner:
         self.seed = scenario.seed if seed is None else seed
         self.rng = np.random.default_rng(self.seed)
         self.listeners = list(listeners or [])
-        self.layout = telemetry.Layout(scenario.recorded_fields(sc), sc.n_wheels)
+        self.layout = telemetry.Layout(scenario.recorded_fields(sc), telemetry_fields.names_for(sc))
         self.result = RunResult()
         self._frames: list[telemetry.Frame] = []
 
@@ -82,13 +82,17 @@ class Runner:
 
         init = scenario.initial
         h0 = init.h_wheels_Nms or [0.0] * sc.n_wheels
-        self.truth_params = plant.make_truth_params(sc)
-        self.x = plant.initial_state(init.q_BN, init.omega_BN_B_rad_s, h0)
-        self.iru_state = plant.initial_iru_state(sc, self.truth_params, self.x)
-        self.torque_ext_B = np.zeros(3)
+        world = build.World(scenario.epoch_utc, scenario.duration_s, **scenario.environment.model_dump())
+        self.truth_params = build.make_truth_params(sc, world)
+        orbit = scenario.orbit or build.default_orbit(sc.name, scenario.epoch_utc)
+        r0, v0 = orbit.to_rv()
+        propellant = sc.mass.propellant_kg if init.propellant_kg is None else init.propellant_kg
+        self.truth = build.make_truth_state(sc, self.truth_params, init.q_BN, init.omega_BN_B_rad_s, h0, r0, v0,
+                                            propellant)
         self.sensors = empty_sensor_record(len(sc.star_trackers))
-        self.act_applied = empty_actuator_command(sc.n_wheels)
-        self.act_new = empty_actuator_command(sc.n_wheels)
+        n_thr = len(sc.thrusters.units)
+        self.act_applied = empty_actuator_command(sc.n_wheels, n_thr)
+        self.act_new = empty_actuator_command(sc.n_wheels, n_thr)
         # The flight software starts knowing the initial attitude (as if uplinked).
         self.fsw = FlightSoftware(sc, initial_mode(scenario), init.q_BN, initial_target(scenario))
 
@@ -162,7 +166,7 @@ class Runner:
 
     def frame(self) -> telemetry.Frame:
         """The recorded fields now."""
-        mode, numbers = telemetry.sample(self.t_s, self.x, self.truth_params.body, self.fsw.state, self.sensors,
+        mode, numbers = telemetry_fields.sample(self.t_s, self.truth, self.truth_params, self.fsw.state, self.sensors,
                                          self.act_applied)
         return telemetry.Frame(mode, numbers[self.layout.index], self.layout)
 
@@ -197,9 +201,9 @@ class Runner:
             if self.cycle % self.tlm_every == 0:
                 self._record()
             n = min(self._next_stop(target_cycle) - self.cycle, self._noise_rows())
-            ran, code = advance(n, self.x, self.iru_state, self.truth_params, self._noise, self._noise_row,
-                                self.sensors, self.fsw.state, self.fsw.params, self.act_applied, self.act_new,
-                                self.torque_ext_B, self.delay)
+            ran, code = advance(n, self.cycle, self.cycle_ns / 1e9, self.truth, self.truth_params, self._noise,
+                                self._noise_row, self.sensors, self.fsw.state, self.fsw.params, self.act_applied,
+                                self.act_new, self.delay)
             self.cycle += ran
             self._noise_row += ran
             if code:

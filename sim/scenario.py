@@ -21,7 +21,8 @@ from sim.expectations import Expectation
 from sim.modes import IMPLEMENTED, Mode
 from sim.spacecraft.definition import Spacecraft
 from sim.spacecraft.model import Quat, Vec3, check_unit_quaternion
-from sim.telemetry import always_fields, field_names
+from sim.telemetry_fields import always_fields, names_for
+from sim.truth.orbit import OrbitElements
 
 DEFAULT_EPOCH = datetime(2026, 3, 20, 12, 0, 0, tzinfo=timezone.utc)
 
@@ -39,6 +40,7 @@ class InitialState(Strict):
     q_BN: Quat = (1.0, 0.0, 0.0, 0.0)
     omega_BN_B_rad_s: Vec3 = (0.0, 0.0, 0.0)
     h_wheels_Nms: list[float] | None = Field(None, description="axial momentum of each wheel; zero when absent")
+    propellant_kg: float | None = Field(None, ge=0, description="propellant on board; full tanks when absent")
     target_q_RN: Quat | None = Field(None, description="initial Inertial target; the initial attitude when absent")
 
     @field_validator("q_BN", "target_q_RN")
@@ -70,6 +72,16 @@ class ScheduledCommand(Strict):
         return data
 
 
+class Environment(Strict):
+    """Which parts of the world act; each disturbance can be switched off."""
+    srp: bool = Field(True, description="solar radiation pressure force and torque")
+    gravity_gradient: bool = True
+    engine_torque: bool = Field(True, description="main-engine misalignment torque")
+    zonal: bool = Field(True, description="J2, J3, J4")
+    tesseral: bool = Field(True, description="C22, S22")
+    third_body: bool = Field(True, description="Sun and Moon gravity")
+
+
 class OutputSpec(Strict):
     period_s: float = Field(1.0, gt=0, description="telemetry sample period")
     fields: list[str] | None = Field(None, description="extra fields to record; all when absent")
@@ -84,6 +96,8 @@ class Scenario(Strict):
     duration_s: float = Field(gt=0)
     seed: int = Field(0, ge=0)
     initial: InitialState = InitialState()
+    orbit: OrbitElements | None = Field(None, description="initial osculating elements; the spacecraft's when absent")
+    environment: Environment = Environment()
     commands: list[ScheduledCommand] = Field(default_factory=list)
     output: OutputSpec = OutputSpec()
     expect: list[Expectation] = Field(default_factory=list)
@@ -112,7 +126,7 @@ class Scenario(Strict):
         return spacecraft_files.load_spacecraft(self.spacecraft, self.overrides)
 
     def recorded_fields(self, sc: Spacecraft) -> list[str]:
-        names = field_names(sc.n_wheels)
+        names = names_for(sc)
         if self.output.fields is None:
             return list(names)
         wanted = set(always_fields(sc.n_wheels)) | set(self.output.fields) | {e.field for e in self.expect}
@@ -123,6 +137,9 @@ def _spacecraft_checks(s: Scenario, sc: Spacecraft) -> list[str]:
     """Checks that need the spacecraft itself."""
     problems = []
     h = s.initial.h_wheels_Nms
+    if s.initial.propellant_kg is not None and s.initial.propellant_kg > sc.mass.propellant_kg:
+        problems.append(f"initial.propellant_kg: {s.initial.propellant_kg:g} kg exceeds the full load of "
+                        f"{sc.mass.propellant_kg:g} kg")
     if h is not None and len(h) != sc.n_wheels:
         problems.append(f"initial.h_wheels_Nms: expected {sc.n_wheels} values (one per wheel), found {len(h)}")
     cycle = sc.timing.control_dt_s
@@ -130,7 +147,7 @@ def _spacecraft_checks(s: Scenario, sc: Spacecraft) -> list[str]:
     if abs(ratio - round(ratio)) > 1e-9:
         problems.append(f"output.period_s: expected a whole multiple of the control cycle ({cycle:g} s), "
                         f"found {s.output.period_s:g}")
-    known = field_names(sc.n_wheels)
+    known = names_for(sc)
     for i, f in enumerate(s.output.fields or []):
         if f not in known:
             problems.append(f"output.fields.{i}: unknown field {f!r}; allowed: {', '.join(known)}")

@@ -3,14 +3,15 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
+from sim.scenario import DEFAULT_EPOCH
 from sim.spacecraft import load_spacecraft
-from sim.truth import plant
+from sim.truth import build
 from sim.truth.sensors.iru import IruParams, iru_initial_state, iru_sample
 from sim.truth.sensors.star_tracker import star_tracker_sample
 
 ARCSEC = np.pi / 180 / 3600
 SC = load_spacecraft("sdo")
-TP = plant.make_truth_params(SC)
+TP = build.make_truth_params(SC, build.World(DEFAULT_EPOCH, 60.0))
 
 
 def test_iru_rate_resolution_is_lsb_over_cycle():

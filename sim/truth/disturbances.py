@@ -49,9 +49,15 @@ def srp_force_torque_B(sun_B, sun_distance_m, lit_fraction, cm_B, p):
         a = -pressure * p.area_m2[k] * c
         ks = a * (1.0 - p.rho_specular[k])
         kn = a * 2.0 * (p.rho_specular[k] * c + p.rho_diffuse[k] / 3.0)
-        f = ks * sun_B + kn * n
-        force += f
-        torque += cross(p.centroid_B[k] - cm_B, f)
+        # scalar accumulation: this runs per facet per RK4 step
+        f0, f1, f2 = ks * sun_B[0] + kn * n[0], ks * sun_B[1] + kn * n[1], ks * sun_B[2] + kn * n[2]
+        r0, r1, r2 = p.centroid_B[k, 0] - cm_B[0], p.centroid_B[k, 1] - cm_B[1], p.centroid_B[k, 2] - cm_B[2]
+        force[0] += f0
+        force[1] += f1
+        force[2] += f2
+        torque[0] += r1 * f2 - r2 * f1
+        torque[1] += r2 * f0 - r0 * f2
+        torque[2] += r0 * f1 - r1 * f0
     return force, torque
 
 

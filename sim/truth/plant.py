@@ -1,64 +1,98 @@
-"""The truth model assembled: body, wheels and sensors, built from a Spacecraft.
+"""The truth model assembled: dynamics, environment and sensors, built from a
+Spacecraft and a scenario's environment.
 
-`sense` samples every sensor into a SensorRecord; `propagate` integrates the
-plant over one control cycle with the actuator command held. Both are compiled
-and called from the runner's cycle loop (sim/loop.py).
+Once per control cycle `sense` samples every sensor into a SensorRecord and
+`propagate` integrates the plant over the cycle with the actuator command
+held: the environment (Sun position, lit fraction) is fixed at the top of the
+cycle and RK4 steps at the pulse resolution, each with its thrusters' on-time.
+Both are compiled and called from the runner's cycle loop (sim/loop.py).
 """
 from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
-from sim.spacecraft.definition import Spacecraft
-from sim.truth.rigid_body import IH, IQ, IW, BodyParams, initial_state, make_body_params, rk4_step  # noqa: F401 (initial_state: re-exported for the runner)
+from sim.truth import dynamics
+from sim.truth.dynamics import DynamicsParams, StepInputs  # noqa: F401 (StepInputs: the type of TruthState.inputs)
+from sim.truth.eclipse import lit_fraction, sun_vector_apparent_N
+from sim.truth.ephemeris import earth_velocity_bary_N, sun_position_N
+from sim.truth.rigid_body import IH, IQ, IW
 from sim.truth.sensors import iru, star_tracker
+from sim.truth.thrusters import N_FAULT_SLOTS as N_THRUSTER_FAULT_SLOTS
+from sim.truth.thrusters import on_fraction
 
 ARCSEC = np.pi / 180.0 / 3600.0
 
 
 class TruthParams(NamedTuple):
-    body: BodyParams
+    dyn: DynamicsParams
     iru: iru.IruParams
     st: star_tracker.StarTrackerParams
     truth_dt: float
     substeps: int
 
 
+class TruthState(NamedTuple):
+    x: np.ndarray              # dynamics state vector
+    iru: np.ndarray            # IRU counter state
+    inputs: StepInputs         # what acts over the current RK4 step (also read by telemetry)
+    thruster_faults: np.ndarray  # (n_thrusters, N_THRUSTER_FAULT_SLOTS)
+    held: dynamics.Held        # loads held over the current RK4 step
+    work: np.ndarray           # (5, len(x)) RK4 scratch
+
+
 def noise_per_cycle(n_star_trackers: int) -> int:
     return iru.N_NOISE + star_tracker.N_NOISE * n_star_trackers
 
 
-def make_truth_params(sc: Spacecraft) -> TruthParams:
-    w = sc.wheels
-    body = make_body_params(sc.inertia_B_kgm2, w.axes_B, w.spin_inertia_kgm2, w.torque_max_Nm, w.h_max_Nms,
-                            w.viscous_Nm_per_rad_s, w.coulomb_Nm, w.coulomb_smoothing_rad_s)
-    dt = sc.timing.control_dt_s
-    iru_p = iru.IruParams(sc.iru.lsb_arcsec * ARCSEC,
-                          np.radians(sc.iru.arw_deg_per_sqrt_h) / 60.0,
-                          np.radians(sc.iru.rrw_deg_h_per_sqrt_h) / 3600.0 / 60.0, dt)
-    st_p = star_tracker.StarTrackerParams(
-        np.array([t.q_BS for t in sc.star_trackers], float),
-        np.array([[t.noise_transverse_arcsec_3sigma, t.noise_transverse_arcsec_3sigma,
-                   t.noise_boresight_arcsec_3sigma] for t in sc.star_trackers]) / 3.0 * ARCSEC)
-    substeps = int(round(dt / sc.timing.truth_dt_s))
-    return TruthParams(body, iru_p, st_p, sc.timing.truth_dt_s, substeps)
-
-
-def initial_iru_state(sc: Spacecraft, p: TruthParams, x: np.ndarray) -> np.ndarray:
-    n = len(sc.wheels.axes_B)
-    bias = np.radians(np.array(sc.iru.bias_deg_h)) / 3600.0
-    return iru.iru_initial_state(bias, x[IH + n:IH + n + 3], x[IW:IW + 3], p.iru)
+def make_truth_state(x: np.ndarray, iru_state: np.ndarray, n_wheels: int, n_thrusters: int) -> TruthState:
+    return TruthState(x, iru_state, dynamics.make_inputs(n_wheels, n_thrusters), np.zeros((n_thrusters, N_THRUSTER_FAULT_SLOTS)), dynamics.make_held(),
+                      np.empty((5, x.shape[0])))
 
 
 @njit(cache=True)
-def sense(x, iru_state, p, noise, rec):
-    n = p.body.axes_B.shape[0]
-    iru.iru_sample(iru_state, p.iru, x[IH + n:IH + n + 3], noise[:iru.N_NOISE], rec.iru_rate_B_rad_s)
+def set_environment(ts, p, t_s):
+    """Fix the Sun's position and the lit fraction for the cycle starting at t_s."""
+    n = p.dyn.wheels.axes_B.shape[0]
+    ir = IH + n + 3
+    sun = sun_position_N(p.dyn.ephem, t_s)
+    ts.inputs.sun_N_m[:] = sun
+    ts.inputs.lit_fraction[0] = lit_fraction(ts.x[ir:ir + 3], sun)
+    ts.inputs.t_s[0] = t_s
+
+
+@njit(cache=True)
+def apparent_sun_N(ts, p):
+    """Unit vector from the spacecraft to the Sun as its sensors see it (aberration included)."""
+    n = p.dyn.wheels.axes_B.shape[0]
+    ir = IH + n + 3
+    x = ts.x
+    return sun_vector_apparent_N(x[ir:ir + 3], x[ir + 3:ir + 6], ts.inputs.sun_N_m,
+                                 earth_velocity_bary_N(p.dyn.ephem, ts.inputs.t_s[0]))
+
+
+@njit(cache=True)
+def sense(ts, p, noise, rec):
+    n = p.dyn.wheels.axes_B.shape[0]
+    x = ts.x
+    iru.iru_sample(ts.iru, p.iru, x[IH + n:IH + n + 3], noise[:iru.N_NOISE], rec.iru_rate_B_rad_s)
     star_tracker.star_tracker_sample(x[IQ:IQ + 4], p.st, noise[iru.N_NOISE:], rec.st_q_SN, rec.st_valid)
 
 
 @njit(cache=True)
-def propagate(x, p, wheel_cmd_Nm, torque_ext_B):
-    work = np.empty((5, x.shape[0]))
-    for _ in range(p.substeps):
-        rk4_step(x, p.body, wheel_cmd_Nm, torque_ext_B, p.truth_dt, work)
+def propagate(ts, p, act):
+    """Integrate over one control cycle with the actuator command `act` held."""
+    inp = ts.inputs
+    inp.wheel_cmd_Nm[:] = act.wheel_torque_Nm
+    inp.engine_on[0] = act.engine_on[0]
+    t0 = inp.t_s[0]
+    for j in range(p.substeps):
+        on_fraction(act.thruster_pulses, j, p.truth_dt, p.dyn.thrusters.pulse_s, ts.thruster_faults,
+                    inp.thruster_on)
+        inp.t_s[0] = t0 + j * p.truth_dt
+        dynamics.rk4_step(ts.x, p.dyn, inp, ts.held, p.truth_dt, ts.work)
+    inp.t_s[0] = t0
+
+
+def omega_of(ts: TruthState) -> np.ndarray:
+    return ts.x[IW:IW + 3]

@@ -1,0 +1,96 @@
+"""The telemetry fields: their names, and one compiled function that computes
+them all at an instant.
+
+The runner owns both sides of the wall, so a frame may hold truth values
+beside flight-software values; names say which (q_BN and sun_B are truth,
+q_est_BN the flight software's estimate). Flight-software values are those of
+the last completed control cycle. sun_B is the apparent Sun direction (with
+aberration), as the sensors see it.
+"""
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+from numba import njit
+
+from sim.attitude import ARCSEC_PER_RAD, quat_conj, quat_mul, quat_rotate, quat_rotate_inv, rotation_angle
+from sim.fsw.cycle import F_INTEGRATOR_ACTIVE
+from sim.modes import Mode
+from sim.truth import mass as massmod
+from sim.truth.dynamics import loads
+from sim.truth.plant import apparent_sun_N
+from sim.truth.rigid_body import IH, IQ, IW, angular_momentum_B
+from sim.truth.wheels import wheel_speeds_rad_s
+
+RPM_PER_RAD_S = 60.0 / (2.0 * np.pi)
+XYZ = ("x", "y", "z")
+WXYZ = ("w", "x", "y", "z")
+
+
+def _vec(prefix: str, unit: str = "", axes=XYZ) -> list[str]:
+    return [f"{prefix}_{a}{unit}" for a in axes]
+
+
+def _numbered(prefix: str, unit: str, n: int) -> list[str]:
+    return [f"{prefix}_{i + 1}{unit}" for i in range(n)]
+
+
+def always_fields(n_wheels: int = 4) -> list[str]:
+    """The columns every telemetry file has."""
+    return (["t_s", "mode"] + _vec("q_BN", axes=WXYZ) + _vec("omega_BN_B", "_rad_s")
+            + _numbered("h_wheel", "_Nms", n_wheels) + _vec("h_total_N", "_Nms") + ["att_err_arcsec"])
+
+
+@functools.cache
+def field_names(n_wheels: int = 4, n_thrusters: int = 8) -> tuple[str, ...]:
+    return tuple(always_fields(n_wheels) + (
+        ["h_total_Nms", "est_err_arcsec"] + _vec("q_est_BN", axes=WXYZ) + _vec("q_RN", axes=WXYZ)
+        + _vec("theta_e_B", "_arcsec") + _vec("iru_rate_B", "_rad_s")
+        + _vec("torque_cmd_B", "_Nm") + _vec("torque_undelivered_B", "_Nm")
+        + ["integrator_active"] + _vec("integral_B", "_rad_s")
+        + _numbered("wheel_speed", "_rpm", n_wheels) + _numbered("wheel_cmd", "_Nm", n_wheels)
+        + _vec("sun_B") + ["sun_angle_deg", "eclipse_lit_fraction"]
+        + _vec("torque_srp_B", "_Nm") + _vec("torque_gg_B", "_Nm") + _vec("torque_engine_B", "_Nm")
+        + _vec("torque_thrusters_B", "_Nm") + ["mass_kg", "propellant_kg"]
+        + _vec("r_N", "_m") + _vec("v_N", "_m_s")
+        + _numbered("thr_pulses", "", n_thrusters) + ["engine_on"]))
+
+
+def names_for(sc) -> tuple[str, ...]:
+    return field_names(sc.n_wheels, len(sc.thrusters.units))
+
+
+@njit(cache=True)
+def _numbers(t_s, ts, tp, s, rate_B, act):
+    """The numeric fields in field_names() order (mode left out), compiled:
+    telemetry is sampled often enough that Python-level math would dominate."""
+    x = ts.x
+    w = tp.dyn.wheels
+    n = w.axes_B.shape[0]
+    ir = IH + n + 3
+    q_BN = x[IQ:IQ + 4]
+    omega = x[IW:IW + 3]
+    h = x[IH:IH + n]
+    m_prop = x[ir + 6]
+    j_prime = massmod.inertia_B(m_prop, tp.dyn.mass) - w.spin_inertia_B
+    h_total_N = quat_rotate(q_BN, angular_momentum_B(x, j_prime, w))
+    sun_B = quat_rotate_inv(q_BN, apparent_sun_N(ts, tp))
+    ld = loads(x, tp.dyn, ts.inputs)
+    return np.concatenate((
+        np.array([t_s]), q_BN, omega, h, h_total_N,
+        np.array([rotation_angle(quat_mul(quat_conj(s.q_RN), q_BN)) * ARCSEC_PER_RAD,
+                  np.sqrt(np.sum(h_total_N * h_total_N)),
+                  rotation_angle(quat_mul(quat_conj(s.q_est_BN), q_BN)) * ARCSEC_PER_RAD]),
+        s.q_est_BN, s.q_RN, s.theta_e * ARCSEC_PER_RAD, rate_B, s.torque_cmd_B, s.torque_undelivered_B,
+        s.flags[F_INTEGRATOR_ACTIVE:F_INTEGRATOR_ACTIVE + 1], s.integral,
+        wheel_speeds_rad_s(h, omega, w.axes_B, w.spin_inertia) * RPM_PER_RAD_S, act.wheel_torque_Nm,
+        sun_B, np.array([np.degrees(np.arccos(min(max(sun_B[0], -1.0), 1.0))), ts.inputs.lit_fraction[0]]),
+        ld.torque_srp_B, ld.torque_gg_B, ld.torque_engine_B, ld.torque_thrusters_B,
+        np.array([massmod.total_mass_kg(m_prop, tp.dyn.mass), m_prop]), x[ir:ir + 6],
+        act.thruster_pulses, act.engine_on))
+
+
+def sample(t_s: float, ts, tp, fsw_state, sensors, act) -> tuple[str, np.ndarray]:
+    """Every field at one instant: the mode's name and the numeric fields."""
+    return Mode(int(fsw_state.mode[0])).name, _numbers(t_s, ts, tp, fsw_state, sensors.iru_rate_B_rad_s, act)
