@@ -4,7 +4,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 
-.PHONY: serve test bench clean
+.PHONY: serve test bench clean chromium
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -16,8 +16,13 @@ serve: $(STAMP)
 	$(VENV)/bin/acs serve
 
 # pytest exits 5 when it collected no test: make then fails, as CI must.
-test: $(STAMP)
+# The browser test drives Debian's chromium (Playwright's own browser download
+# is never used).
+test: $(STAMP) chromium
 	$(PY) -m pytest -q
+
+chromium:
+	@command -v chromium >/dev/null || (apt-get update && apt-get install -y chromium)
 
 bench: $(STAMP)
 	$(VENV)/bin/acs bench

@@ -2,7 +2,8 @@
 
     acs run SCENARIO [--seed N] [--out DIR]   headless run; exit 0 pass, 1 expectation failed, 2 bad input
     acs bench [NAME ...] [--reference PYTHON] speed, as real-time ratios
-    acs serve                                 the console (for now: the default scenario, headless)
+    acs serve [--scenario FILE] [--host H] [--port P] [--viser-port V] [--archive PATH]
+                                              the live operations console
 """
 from __future__ import annotations
 
@@ -88,8 +89,9 @@ def _cmd_run(args) -> int:
 
 
 def _cmd_serve(args) -> int:
-    print(f"acs serve: the console is not built yet; running {args.scenario} headless")
-    return run_headless(args.scenario, None, args.out)
+    from server.serve import main as serve_main
+
+    return serve_main(args)
 
 
 def _cmd_bench(args) -> int:
@@ -119,9 +121,10 @@ def build_parser() -> argparse.ArgumentParser:
     b.add_argument("--startup", action="store_true", help="also time cold and warm starts of `acs run`")
     b.set_defaults(func=_cmd_bench)
 
-    s = sub.add_parser("serve", help="run the operations console")
-    s.add_argument("--scenario", default=str(DEFAULT_SCENARIO))
-    s.add_argument("--out", type=Path, default=Path("out") / "serve")
+    s = sub.add_parser("serve", help="run the live operations console (3D console + REST/WebSocket API)")
+    from server.serve import add_arguments
+
+    add_arguments(s)
     s.set_defaults(func=_cmd_serve)
     return p
 
