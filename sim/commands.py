@@ -13,6 +13,7 @@ from typing import Annotated, ClassVar, Literal, Union
 
 from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, field_validator
 
+from sim.faults import Fault
 from sim.modes import Mode
 from sim.spacecraft.model import Quat, check_unit_quaternion
 
@@ -42,9 +43,27 @@ class ResetIntegrator(CommandBase):
     legal_modes: ClassVar = (Mode.INERTIAL, Mode.SCIENCE)
 
 
-Command = Annotated[Union[SetTargetQuaternion, ResetIntegrator], Field(discriminator="type")]
+class InjectFault(CommandBase):
+    """Break something in the simulated world (not a flight-software command)."""
+    type: Literal["inject_fault"] = "inject_fault"
+    fault: Fault
+    legal_modes: ClassVar = tuple(Mode)
+    hazardous: ClassVar = True
+
+
+class ClearFault(CommandBase):
+    """Repair a fault injected before (the same fault description)."""
+    type: Literal["clear_fault"] = "clear_fault"
+    fault: Fault
+    legal_modes: ClassVar = tuple(Mode)
+    hazardous: ClassVar = True
+
+
+WORLD_COMMANDS = (InjectFault, ClearFault)  # handled by the runner, not the flight software
+_ALL = (SetTargetQuaternion, ResetIntegrator, InjectFault, ClearFault)
+Command = Annotated[Union[_ALL], Field(discriminator="type")]
 COMMAND_ADAPTER: TypeAdapter = TypeAdapter(Command)
-COMMAND_TYPES = {c.model_fields["type"].default: c for c in (SetTargetQuaternion, ResetIntegrator)}
+COMMAND_TYPES = {c.model_fields["type"].default: c for c in _ALL}
 
 QUEUED, ACCEPTED, REJECTED, EXECUTING, COMPLETED, FAILED = (
     "queued", "accepted", "rejected", "executing", "completed", "failed")

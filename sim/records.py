@@ -11,10 +11,18 @@ from numba import njit
 
 
 class SensorRecord(NamedTuple):
-    iru_rate_B_rad_s: np.ndarray  # (3,) rate from differenced, quantised angle counts
-    iru_valid: np.ndarray         # (3,) bool
-    st_q_SN: np.ndarray           # (n_st, 4) each tracker's measured attitude of its own frame S
-    st_valid: np.ndarray          # (n_st,) bool
+    iru_rate_ch_rad_s: np.ndarray  # (6,) each IRU channel: differenced, quantised angle counts over the cycle
+    iru_ch_valid: np.ndarray       # (6,) bool
+    st_q_SN: np.ndarray            # (n_st, 4) each tracker's measured attitude of its own frame S (0 when invalid)
+    st_valid: np.ndarray           # (n_st,) bool
+    css_current_A: np.ndarray      # (16,) coarse Sun sensor currents, primary set then backup set
+    dss_angles_rad: np.ndarray     # (2,) digital Sun sensor tangent-plane angles alpha, beta
+    dss_valid: np.ndarray          # (1,) bool
+    gt_offset_G_rad: np.ndarray    # (4, 2) each guide telescope's S_y, S_z (seed 001 eq. 4)
+    gt_valid: np.ndarray           # (4,) bool
+    gt_in_range: np.ndarray        # (4,) bool: inside the fine range (not saturated)
+    tach_speed_rad_s: np.ndarray   # (n_wheels,) wheel tachometers
+    tach_valid: np.ndarray         # (n_wheels,) bool
 
 
 class ActuatorCommand(NamedTuple):
@@ -23,10 +31,13 @@ class ActuatorCommand(NamedTuple):
     engine_on: np.ndarray         # (1,) main engine on for the whole cycle: 1.0, else 0.0
 
 
-def empty_sensor_record(n_star_trackers: int) -> SensorRecord:
-    q = np.zeros((n_star_trackers, 4))
-    q[:, 0] = 1.0
-    return SensorRecord(np.zeros(3), np.ones(3, dtype=np.bool_), q, np.ones(n_star_trackers, dtype=np.bool_))
+def empty_sensor_record(n_star_trackers: int, n_wheels: int) -> SensorRecord:
+    def flags(n):
+        return np.zeros(n, dtype=np.bool_)
+
+    return SensorRecord(np.zeros(6), flags(6), np.zeros((n_star_trackers, 4)), flags(n_star_trackers),
+                        np.zeros(16), np.zeros(2), flags(1), np.zeros((4, 2)), flags(4), flags(4),
+                        np.zeros(n_wheels), flags(n_wheels))
 
 
 def empty_actuator_command(n_wheels: int, n_thrusters: int) -> ActuatorCommand:

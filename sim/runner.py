@@ -14,19 +14,31 @@ from typing import Callable
 
 import numpy as np
 
-from sim import telemetry, telemetry_fields
+from sim import fault_injection, telemetry, telemetry_fields
 from sim.command_queue import CommandQueue
-from sim.commands import ACCEPTED, COMPLETED, EXECUTING, FAILED, REJECTED, CommandBase, CommandRecord, Stage
-from sim.commands import SetTargetQuaternion
+from sim.commands import (
+    ACCEPTED,
+    COMPLETED,
+    EXECUTING,
+    FAILED,
+    REJECTED,
+    WORLD_COMMANDS,
+    CommandBase,
+    CommandRecord,
+    InjectFault,
+    SetTargetQuaternion,
+    Stage,
+)
 from sim.events import ERROR, INFO, WARNING, Event
 from sim.expectations import evaluate
+from sim.faults import describe as describe_fault
 from sim.fsw.cycle import EVENT_SLEW_SETTLED
 from sim.fsw.flight_software import FlightSoftware
 from sim.loop import advance
 from sim.records import empty_actuator_command, empty_sensor_record
 from sim.scenario import Scenario, initial_mode, initial_target
 from sim.spacecraft.definition import Spacecraft
-from sim.truth import build, plant
+from sim.truth import build, sensor_suite
 
 NOISE_BLOCK_CYCLES = 4096  # rows drawn at once; fixed, so draws never depend on segmenting
 
@@ -89,14 +101,14 @@ class Runner:
         propellant = sc.mass.propellant_kg if init.propellant_kg is None else init.propellant_kg
         self.truth = build.make_truth_state(sc, self.truth_params, init.q_BN, init.omega_BN_B_rad_s, h0, r0, v0,
                                             propellant)
-        self.sensors = empty_sensor_record(len(sc.star_trackers))
+        self.sensors = empty_sensor_record(len(sc.star_trackers), sc.n_wheels)
         n_thr = len(sc.thrusters.units)
         self.act_applied = empty_actuator_command(sc.n_wheels, n_thr)
         self.act_new = empty_actuator_command(sc.n_wheels, n_thr)
         # The flight software starts knowing the initial attitude (as if uplinked).
         self.fsw = FlightSoftware(sc, initial_mode(scenario), init.q_BN, initial_target(scenario))
 
-        self.n_noise = plant.noise_per_cycle(len(sc.star_trackers))
+        self.n_noise = sensor_suite.noise_per_cycle(len(sc.star_trackers))
         self._noise = np.empty((0, self.n_noise))
         self._noise_row = 0
         self._slew: tuple[CommandRecord, int] | None = None  # executing slew and its deadline cycle
@@ -125,11 +137,28 @@ class Runner:
             listener.on_command(rec, st)
         severity = WARNING if st.name in (REJECTED, FAILED) else INFO
         msg = f"{rec.describe()} {st.name}" + (f": {st.reason}" if st.reason else "")
-        self.emit(Event(st.t_s, severity, "ground" if st.name == "queued" else "fsw", "command", msg,
+        handler = "simulator" if isinstance(rec.command, WORLD_COMMANDS) else "fsw"
+        self.emit(Event(st.t_s, severity, "ground" if st.name == "queued" else handler, "command", msg,
                         {"id": rec.id, "stage": st.name}))
+
+    def _apply_fault(self, rec: CommandRecord) -> None:
+        cmd = rec.command
+        inject = isinstance(cmd, InjectFault)
+        reason = fault_injection.apply(cmd.fault, self.truth, active=inject)
+        if reason:
+            self.queue.stamp(rec, REJECTED, self.t_s, reason)
+            return
+        for stage in (ACCEPTED, EXECUTING, COMPLETED):
+            self.queue.stamp(rec, stage, self.t_s)
+        verb = "injected" if inject else "cleared"
+        self.emit(Event(self.t_s, WARNING if inject else INFO, "ground", "fault",
+                        f"fault {verb}: {describe_fault(cmd.fault)}", {"command": rec.id}))
 
     def _deliver_due_commands(self) -> None:
         for rec in self.queue.pop_due(self.cycle):
+            if isinstance(rec.command, WORLD_COMMANDS):
+                self._apply_fault(rec)
+                continue
             outcome = self.fsw.execute(rec.command)
             if not outcome.accepted:
                 self.queue.stamp(rec, REJECTED, self.t_s, outcome.reason)

@@ -18,6 +18,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_valida
 from sim import spacecraft as spacecraft_files
 from sim.commands import COMMAND_TYPES, Command
 from sim.expectations import Expectation
+from sim.faults import FAULT_KINDS
 from sim.modes import IMPLEMENTED, Mode
 from sim.spacecraft.definition import Spacecraft
 from sim.spacecraft.model import Quat, Vec3, check_unit_quaternion
@@ -162,7 +163,7 @@ def _loc(loc: tuple) -> str:
     for p in loc:
         # The discriminated union adds the tag and our wrapper a "command" level:
         # neither is something the user wrote.
-        if p == "command" or p in COMMAND_TYPES:
+        if p == "command" or p in COMMAND_TYPES or p in FAULT_KINDS:
             continue
         parts.append(str(p))
     return ".".join(parts)
@@ -183,8 +184,8 @@ def _allowed_fields(root: type[BaseModel], loc: tuple) -> list[str]:
     """The field names allowed where loc's last element was found."""
     model: type[BaseModel] | None = root
     for p in loc[:-1]:
-        if p in COMMAND_TYPES:
-            model = COMMAND_TYPES[p]
+        if p in COMMAND_TYPES or p in FAULT_KINDS:
+            model = COMMAND_TYPES.get(p) or FAULT_KINDS[p]
         elif isinstance(p, str):
             if model is None or p not in model.model_fields:
                 return []
@@ -202,9 +203,11 @@ def _message(e: dict, root: type[BaseModel]) -> tuple[tuple, str]:
         allowed = _allowed_fields(root, loc)
         return loc, f"unknown field {loc[-1]!r}" + (f"; allowed: {', '.join(allowed)}" if allowed else "")
     if kind in ("union_tag_invalid", "union_tag_not_found"):
-        allowed = ", ".join(COMMAND_TYPES)
-        what = f"unknown command type {found.get('type')!r}" if kind == "union_tag_invalid" else "missing"
-        return (*loc, "type"), f"{what}; allowed: {allowed}"
+        tag = e.get("ctx", {}).get("discriminator", "'type'").strip("'")
+        allowed = ", ".join(COMMAND_TYPES if tag == "type" else FAULT_KINDS)
+        noun = "command type" if tag == "type" else "fault kind"
+        what = f"unknown {noun} {found.get(tag)!r}" if kind == "union_tag_invalid" else "missing"
+        return (*loc, tag), f"{what}; allowed: {allowed}"
     msg = e["msg"].removeprefix("Value error, ")
     if kind not in ("value_error", "missing") and not isinstance(found, dict):
         msg += f" (found {found!r})"

@@ -42,8 +42,18 @@ def always_fields(n_wheels: int = 4) -> list[str]:
             + _numbered("h_wheel", "_Nms", n_wheels) + _vec("h_total_N", "_Nms") + ["att_err_arcsec"])
 
 
+def sensor_fields(n_star_trackers: int, n_wheels: int) -> list[str]:
+    """Each sensor's outputs, named after the sensor (sim/records.py SensorRecord)."""
+    return (_numbered("iru_rate_ch", "_rad_s", 6) + _numbered("iru_ch_valid", "", 6)
+            + _numbered("st_valid", "", n_star_trackers) + _numbered("css_current", "_A", 16)
+            + ["dss_alpha_rad", "dss_beta_rad", "dss_valid"]
+            + [f"gt_{i + 1}_{a}_arcsec" for i in range(4) for a in ("y", "z")]
+            + _numbered("gt_valid", "", 4) + _numbered("gt_in_range", "", 4)
+            + _numbered("tach_speed", "_rpm", n_wheels) + _numbered("tach_valid", "", n_wheels))
+
+
 @functools.cache
-def field_names(n_wheels: int = 4, n_thrusters: int = 8) -> tuple[str, ...]:
+def field_names(n_wheels: int = 4, n_thrusters: int = 8, n_star_trackers: int = 2) -> tuple[str, ...]:
     return tuple(always_fields(n_wheels) + (
         ["h_total_Nms", "est_err_arcsec"] + _vec("q_est_BN", axes=WXYZ) + _vec("q_RN", axes=WXYZ)
         + _vec("theta_e_B", "_arcsec") + _vec("iru_rate_B", "_rad_s")
@@ -54,15 +64,25 @@ def field_names(n_wheels: int = 4, n_thrusters: int = 8) -> tuple[str, ...]:
         + _vec("torque_srp_B", "_Nm") + _vec("torque_gg_B", "_Nm") + _vec("torque_engine_B", "_Nm")
         + _vec("torque_thrusters_B", "_Nm") + ["mass_kg", "propellant_kg"]
         + _vec("r_N", "_m") + _vec("v_N", "_m_s")
-        + _numbered("thr_pulses", "", n_thrusters) + ["engine_on"]))
+        + _numbered("thr_pulses", "", n_thrusters) + ["engine_on"]
+        + sensor_fields(n_star_trackers, n_wheels)))
 
 
 def names_for(sc) -> tuple[str, ...]:
-    return field_names(sc.n_wheels, len(sc.thrusters.units))
+    return field_names(sc.n_wheels, len(sc.thrusters.units), len(sc.star_trackers))
 
 
 @njit(cache=True)
-def _numbers(t_s, ts, tp, s, rate_B, act):
+def _sensor_numbers(rec):
+    return np.concatenate((rec.iru_rate_ch_rad_s, rec.iru_ch_valid.astype(np.float64),
+                           rec.st_valid.astype(np.float64), rec.css_current_A, rec.dss_angles_rad,
+                           rec.dss_valid.astype(np.float64), rec.gt_offset_G_rad.ravel() * ARCSEC_PER_RAD,
+                           rec.gt_valid.astype(np.float64), rec.gt_in_range.astype(np.float64),
+                           rec.tach_speed_rad_s * RPM_PER_RAD_S, rec.tach_valid.astype(np.float64)))
+
+
+@njit(cache=True)
+def _numbers(t_s, ts, tp, s, rec, act):
     """The numeric fields in field_names() order (mode left out), compiled:
     telemetry is sampled often enough that Python-level math would dominate."""
     x = ts.x
@@ -82,15 +102,15 @@ def _numbers(t_s, ts, tp, s, rate_B, act):
         np.array([rotation_angle(quat_mul(quat_conj(s.q_RN), q_BN)) * ARCSEC_PER_RAD,
                   np.sqrt(np.sum(h_total_N * h_total_N)),
                   rotation_angle(quat_mul(quat_conj(s.q_est_BN), q_BN)) * ARCSEC_PER_RAD]),
-        s.q_est_BN, s.q_RN, s.theta_e * ARCSEC_PER_RAD, rate_B, s.torque_cmd_B, s.torque_undelivered_B,
+        s.q_est_BN, s.q_RN, s.theta_e * ARCSEC_PER_RAD, s.rate_B, s.torque_cmd_B, s.torque_undelivered_B,
         s.flags[F_INTEGRATOR_ACTIVE:F_INTEGRATOR_ACTIVE + 1], s.integral,
         wheel_speeds_rad_s(h, omega, w.axes_B, w.spin_inertia) * RPM_PER_RAD_S, act.wheel_torque_Nm,
         sun_B, np.array([np.degrees(np.arccos(min(max(sun_B[0], -1.0), 1.0))), ts.inputs.lit_fraction[0]]),
         ld.torque_srp_B, ld.torque_gg_B, ld.torque_engine_B, ld.torque_thrusters_B,
         np.array([massmod.total_mass_kg(m_prop, tp.dyn.mass), m_prop]), x[ir:ir + 6],
-        act.thruster_pulses, act.engine_on))
+        act.thruster_pulses, act.engine_on, _sensor_numbers(rec)))
 
 
 def sample(t_s: float, ts, tp, fsw_state, sensors, act) -> tuple[str, np.ndarray]:
     """Every field at one instant: the mode's name and the numeric fields."""
-    return Mode(int(fsw_state.mode[0])).name, _numbers(t_s, ts, tp, fsw_state, sensors.iru_rate_B_rad_s, act)
+    return Mode(int(fsw_state.mode[0])).name, _numbers(t_s, ts, tp, fsw_state, sensors, act)

@@ -1,5 +1,5 @@
 """The sensor sections of the spacecraft file (sim/spacecraft/sensor_models.py)
-and their SDO values (docs/sdo_sensors.yaml): they validate, build every
+and their SDO values (the sensors section of sim/spacecraft/sdo.yaml): they validate, build every
 kernel's parameters, cite their sources, and bad values fail with a message
 that names the field and says what is allowed."""
 import re
@@ -28,7 +28,7 @@ from sim.truth.sensors import (
 )
 from sim.truth.sensors.star_tracker import StarTrackerParams
 
-RAW = yaml.safe_load(YAML_PATH.read_text())
+RAW = yaml.safe_load(YAML_PATH.read_text())["sensors"]
 
 
 def test_every_section_builds_its_kernel_parameters():
@@ -50,7 +50,7 @@ def test_every_section_builds_its_kernel_parameters():
     assert built[3].fov_half_width_rad == pytest.approx(np.radians(16.0))
 
 
-def test_every_number_in_the_sdo_sensor_file_cites_a_source():
+def test_every_number_in_the_sdo_spacecraft_file_cites_a_source():
     # DESIGN.md: every number traceable to a seed section or marked as an assumption.
     # A number is covered by its own line's comment, or by a comment block above it
     # that holds until the next commented line or the next section.

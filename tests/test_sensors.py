@@ -58,12 +58,12 @@ def test_star_tracker_noise_matches_seed001_accuracy():
     # seed 001: 90 arcsec about the boresight, 30 arcsec transverse (read as 3 sigma)
     rng = np.random.default_rng(11)
     q_BN = Rotation.from_rotvec([0.3, -0.2, 1.0]).as_quat(scalar_first=True)
-    n_st = TP.st.q_BS.shape[0]
+    n_st = TP.sensors.st.st.q_BS.shape[0]
     q_out, valid = np.zeros((n_st, 4)), np.zeros(n_st, dtype=np.bool_)
     errs = []
     for _ in range(20000):
-        star_tracker_sample(q_BN, TP.st, rng.standard_normal(3 * n_st), q_out, valid)
-        q_SN_true = Rotation.from_quat(q_BN, scalar_first=True) * Rotation.from_quat(TP.st.q_BS[0], scalar_first=True)
+        star_tracker_sample(q_BN, TP.sensors.st.st, rng.standard_normal(3 * n_st), q_out, valid)
+        q_SN_true = Rotation.from_quat(q_BN, scalar_first=True) * Rotation.from_quat(TP.sensors.st.st.q_BS[0], scalar_first=True)
         err = q_SN_true.inv() * Rotation.from_quat(q_out[0], scalar_first=True)
         errs.append(err.as_rotvec())
     three_sigma_arcsec = 3 * np.array(errs).std(axis=0) / ARCSEC
@@ -73,6 +73,6 @@ def test_star_tracker_noise_matches_seed001_accuracy():
 
 def test_star_tracker_boresights_76_deg_apart_in_yz_plane():
     # seed 001: "boresights are 76 deg apart and approximately parallel to the YZ plane"
-    b = [Rotation.from_quat(q, scalar_first=True).apply([0, 0, 1]) for q in TP.st.q_BS]
+    b = [Rotation.from_quat(q, scalar_first=True).apply([0, 0, 1]) for q in TP.sensors.st.st.q_BS]
     assert np.degrees(np.arccos(b[0] @ b[1])) == pytest.approx(76.0, abs=1e-6)
     assert abs(b[0][0]) < 1e-12 and abs(b[1][0]) < 1e-12

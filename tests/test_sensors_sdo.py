@@ -194,7 +194,7 @@ def test_star_tracker_sun_exclusion_is_55_deg():
 
 @pytest.mark.parametrize("body, radius, limb_deg", [("earth", EARTH_RADIUS, 25.0), ("moon", MOON_RADIUS, 10.0)])
 def test_star_tracker_earth_and_moon_exclusion_add_the_angular_radius(body, radius, limb_deg):
-    edge_deg = limb_deg + np.degrees(radius)   # assumptions (docs/sdo_sensors.yaml) beyond the limb
+    edge_deg = limb_deg + np.degrees(radius)   # assumptions (the sensors section of sim/spacecraft/sdo.yaml) beyond the limb
     inside = st_measure(**{f"{body}_N": away_from_other(1, edge_deg - 0.1)})[1]
     outside = st_measure(**{f"{body}_N": away_from_other(1, edge_deg + 0.1)})[1]
     assert list(inside) == [True, False] and list(outside) == [True, True]

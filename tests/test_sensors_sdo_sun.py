@@ -93,7 +93,7 @@ def test_css_noise_and_quantisation_match_assumed_values():
     samples = np.array([css_currents(Q_IDENTITY, X, noise=rng.standard_normal(css.N_NOISE)) for _ in range(4000)])
     lit_eyes = CSS_P.boresight_B[:, 0] > 0          # Sun on +X: the eight eyes with a +X component
     lsb = SUITE.css.lsb_A
-    # docs/sdo_sensors.yaml (assumption): 1.5e-5 A 3-sigma, 12-bit step 2.44e-7 A
+    # the sensors section of sim/spacecraft/sdo.yaml (assumption): 1.5e-5 A 3-sigma, 12-bit step 2.44e-7 A
     assert 3 * samples[:, lit_eyes].std(axis=0) == pytest.approx(np.full(8, 1.5e-5), rel=0.06)
     assert samples[:, lit_eyes].mean(axis=0) == pytest.approx(np.full(8, I_FULL / np.sqrt(3)), abs=lsb)
     assert samples / lsb == pytest.approx(np.round(samples / lsb), abs=1e-6)
@@ -170,7 +170,7 @@ def test_dss_square_field_of_view_32_deg(alpha_deg, beta_deg, seen):
 
 def test_dss_sees_nothing_behind_it_or_in_eclipse():
     assert not dss_measure(-X)[1]
-    # assumption (docs/sdo_sensors.yaml): needs half the disk lit
+    # assumption (the sensors section of sim/spacecraft/sdo.yaml): needs half the disk lit
     assert not dss_measure(X, lit=0.49)[1] and dss_measure(X, lit=0.51)[1]
 
 
@@ -261,7 +261,7 @@ def test_gt_field_of_view_is_half_a_degree():
 def test_gt_noise_is_sub_arcsec():
     rng = np.random.default_rng(9)
     offsets = np.array([gt_measure(X, p=GT_P, noise=rng.standard_normal(gt.N_NOISE))[0] for _ in range(3000)])
-    # assumption (docs/sdo_sensors.yaml): 0.5 arcsec 3-sigma per offset
+    # assumption (the sensors section of sim/spacecraft/sdo.yaml): 0.5 arcsec 3-sigma per offset
     assert 3 * offsets.std(axis=0) / ARCSEC == pytest.approx(np.full((4, 2), 0.5), rel=0.06)
 
 

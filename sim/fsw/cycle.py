@@ -13,6 +13,7 @@ from sim.attitude import error_quat, small_angle_error
 from sim.fsw.distribution import distribute
 from sim.fsw.estimation import estimate_attitude
 from sim.fsw.pid import PidParams, pid_torque
+from sim.fsw.rate_selection import least_squares_rate
 from sim.modes import Mode
 
 INERTIAL = int(Mode.INERTIAL)
@@ -32,6 +33,7 @@ class FswParams(NamedTuple):
     source: int             # estimation.SOURCE_*
     st_index: int
     q_BS: np.ndarray        # (4,) the flight software's mounting of the selected tracker
+    iru_ch_axes_B: np.ndarray  # (6, 3) the flight software's IRU channel axes
     dt: float
 
 
@@ -45,6 +47,8 @@ class FswState(NamedTuple):
     torque_cmd_B: np.ndarray         # (3,) N m
     torque_undelivered_B: np.ndarray  # (3,) N m withheld by the scaling
     flags: np.ndarray                # (N_FLAGS,) float
+    rate_B: np.ndarray               # (3,) body rate from the IRU channels in use, rad/s
+    iru_ch_use: np.ndarray           # (6,) bool: channels rate selection may use (FDC clears failed ones)
 
 
 @njit(cache=True)
@@ -63,12 +67,14 @@ def inertial_law(rate_B, s, p):
 
 @njit(cache=True)
 def fsw_cycle(rec, s, p, act):
+    rate, _ = least_squares_rate(rec.iru_rate_ch_rad_s, p.iru_ch_axes_B, rec.iru_ch_valid & s.iru_ch_use)
+    s.rate_B[:] = rate
     k = p.st_index
-    s.q_est_BN[:] = estimate_attitude(p.source, s.q_est_BN, rec.iru_rate_B_rad_s, rec.st_q_SN[k],
-                                      rec.st_valid[k], p.q_BS, p.dt)
+    s.q_est_BN[:] = estimate_attitude(p.source, s.q_est_BN, s.rate_B, rec.st_q_SN[k], rec.st_valid[k], p.q_BS,
+                                      p.dt)
     event = EVENT_NONE
     if s.mode[0] == INERTIAL:
-        event = inertial_law(rec.iru_rate_B_rad_s, s, p)
+        event = inertial_law(s.rate_B, s, p)
     else:
         s.torque_cmd_B[:] = 0.0
     s.torque_undelivered_B[:] = distribute(s.torque_cmd_B, p.dist, p.torque_limit, act.wheel_torque_Nm)

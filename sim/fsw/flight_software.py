@@ -35,12 +35,14 @@ def make_fsw_params(sc: Spacecraft) -> cycle.FswParams:
     source = SOURCE_STAR_TRACKER if sc.fsw.attitude_source == "star_tracker" else SOURCE_IRU
     k = sc.fsw.star_tracker
     return cycle.FswParams(pid, distribution_matrix(sc.wheels.axes_B), sc.wheels.torque_limit_sw_Nm, source, k,
-                           np.array(sc.star_trackers[k].q_BS, float), sc.timing.control_dt_s)
+                           np.array(sc.star_trackers[k].q_BS, float),
+                           np.array(sc.sensors.iru_units.channel_axes_B, float), sc.timing.control_dt_s)
 
 
 def make_fsw_state(mode: Mode, q_est_BN, q_RN) -> cycle.FswState:
     return cycle.FswState(np.array([int(mode)], np.int64), np.array(q_est_BN, float), np.array(q_RN, float),
-                          np.zeros(3), np.zeros(3), np.zeros(3), np.zeros(3), np.zeros(3), np.zeros(cycle.N_FLAGS))
+                          np.zeros(3), np.zeros(3), np.zeros(3), np.zeros(3), np.zeros(3), np.zeros(cycle.N_FLAGS),
+                          np.zeros(3), np.ones(6, dtype=np.bool_))
 
 
 class FlightSoftware:

@@ -7,9 +7,17 @@ Solves min |H x - y|^2 over the rows flagged in `use`, through the normal
 matrix N = H^T H. Directions the used rows do not see (eigenvalues of N
 below rel_tol times the largest) get no component: the minimum-norm
 solution, and the returned rank says how many directions were seen.
+
+Every cycle takes the 3 x 3 case with all directions well seen: that is
+solved by the adjugate, and the eigen-decomposition (a LAPACK call, about
+1 us) is kept for the rank-deficient case.
 """
 import numpy as np
 from numba import njit
+
+from sim.linalg import inv3, matvec
+
+WELL_CONDITIONED = 1e-3  # det(N) / (trace(N) / 3)^3 above this: all three directions are well seen
 
 
 @njit(cache=True)
@@ -25,6 +33,13 @@ def masked_least_squares(H, y, use, rel_tol):
             rhs[i] += H[k, i] * y[k]
             for j in range(n):
                 normal[i, j] += H[k, i] * H[k, j]
+    if n == 3:
+        tr = normal[0, 0] + normal[1, 1] + normal[2, 2]
+        det = (normal[0, 0] * (normal[1, 1] * normal[2, 2] - normal[1, 2] * normal[2, 1])
+               - normal[0, 1] * (normal[1, 0] * normal[2, 2] - normal[1, 2] * normal[2, 0])
+               + normal[0, 2] * (normal[1, 0] * normal[2, 1] - normal[1, 1] * normal[2, 0]))
+        if tr > 0.0 and det > WELL_CONDITIONED * (tr / 3.0) ** 3:
+            return matvec(inv3(normal), rhs), 3
     lam, vec = np.linalg.eigh(normal)   # ascending eigenvalues
     x = np.zeros(n)
     rank = 0

@@ -4,7 +4,8 @@ from __future__ import annotations
 from pydantic import Field, field_validator, model_validator
 
 from sim.spacecraft.actuator_models import MainEngine, Thrusters
-from sim.spacecraft.model import Fsw, Iru, Positive, StarTracker, Strict, Timing, Vec3, Wheels
+from sim.spacecraft.model import Fsw, Positive, StarTracker, Strict, Timing, Vec3, Wheels
+from sim.spacecraft.sensor_models import SensorSuite
 from sim.spacecraft.structure_models import MassProperties, Surface, check_inertia
 
 
@@ -18,7 +19,7 @@ class Spacecraft(Strict):
     surface: Surface
     timing: Timing
     wheels: Wheels
-    iru: Iru
+    sensors: SensorSuite
     star_trackers: list[StarTracker] = Field(min_length=1)
     thrusters: Thrusters
     main_engine: MainEngine

@@ -80,13 +80,6 @@ class Wheels(Strict):
         return self
 
 
-class Iru(Strict):
-    lsb_arcsec: Positive = Field(description="angle quantisation of the integrated-rate output")
-    arw_deg_per_sqrt_h: NonNegative = Field(description="angle random walk")
-    bias_deg_h: Vec3 = Field(description="constant rate bias per body axis")
-    rrw_deg_h_per_sqrt_h: NonNegative = Field(0.0, description="rate random walk (bias drift)")
-
-
 class StarTracker(Strict):
     q_BS: Quat = Field(description="mounting: attitude of the sensor frame S in B; boresight is S's +Z")
     noise_boresight_arcsec_3sigma: NonNegative

@@ -145,7 +145,7 @@ class Tachometers(Strict):
 
 
 class SensorSuite(Strict):
-    """The sensor sections as docs/sdo_sensors.yaml gives them."""
+    """The sensor sections as the sensors section of sim/spacecraft/sdo.yaml gives them."""
     iru_units: IruUnits
     star_tracker_exclusion: StarTrackerExclusion
     css: Css

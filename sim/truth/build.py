@@ -15,7 +15,8 @@ from sim.truth.gravity import make_gravity_params
 from sim.truth.mass import make_mass_params
 from sim.truth.orbit import OrbitElements, sdo_orbit
 from sim.truth.rigid_body import make_wheel_params
-from sim.truth.sensors import iru, star_tracker
+from sim.truth.sensor_suite import SensorParams, SensorStates
+from sim.truth.sensors import css, dss, guide_telescope, iru_units, star_tracker, star_tracker_exclusion, tachometer
 from sim.truth.thrusters import LBF_N, EngineParams, ThrusterParams
 
 ARCSEC = np.pi / 180.0 / 3600.0
@@ -85,22 +86,34 @@ def make_free_body_params(inertia_B, wheels, epoch_utc: datetime, duration_s: fl
     return dynamics.DynamicsParams(wheels, mass, srp, thr, eng, grav, ephem, np.zeros(dynamics.N_SWITCHES))
 
 
-def make_truth_params(sc: Spacecraft, world: World) -> plant.TruthParams:
+def make_sensor_params(sc: Spacecraft) -> SensorParams:
     dt = sc.timing.control_dt_s
-    iru_p = iru.IruParams(sc.iru.lsb_arcsec * ARCSEC,
-                          np.radians(sc.iru.arw_deg_per_sqrt_h) / 60.0,
-                          np.radians(sc.iru.rrw_deg_h_per_sqrt_h) / 3600.0 / 60.0, dt)
-    st_p = star_tracker.StarTrackerParams(
+    ss = sc.sensors
+    st = star_tracker.StarTrackerParams(
         np.array([t.q_BS for t in sc.star_trackers], float),
         np.array([[t.noise_transverse_arcsec_3sigma, t.noise_transverse_arcsec_3sigma,
                    t.noise_boresight_arcsec_3sigma] for t in sc.star_trackers]) / 3.0 * ARCSEC)
-    substeps = int(round(dt / sc.timing.truth_dt_s))
-    return plant.TruthParams(make_dynamics_params(sc, world), iru_p, st_p, sc.timing.truth_dt_s, substeps)
+    return SensorParams(
+        iru_units.make_iru_units_params(**ss.iru_units.model_dump(exclude={"bias_deg_h"}), dt=dt),
+        star_tracker_exclusion.make_star_tracker_exclusion_params(st, **ss.star_tracker_exclusion.model_dump()),
+        css.make_css_params(**ss.css.model_dump()),
+        dss.make_dss_params(**ss.dss.model_dump()),
+        guide_telescope.make_guide_telescope_params(**ss.guide_telescopes.model_dump()),
+        tachometer.make_tachometer_params(**ss.tachometers.model_dump(), dt=dt))
+
+
+def make_truth_params(sc: Spacecraft, world: World) -> plant.TruthParams:
+    substeps = int(round(sc.timing.control_dt_s / sc.timing.truth_dt_s))
+    return plant.TruthParams(make_dynamics_params(sc, world), make_sensor_params(sc), sc.timing.truth_dt_s, substeps)
 
 
 def make_truth_state(sc: Spacecraft, p: plant.TruthParams, q_BN, omega_BN_B, h_wheels, r_N_m, v_N_m_s,
                      propellant_kg) -> plant.TruthState:
     x = dynamics.initial_state(q_BN, omega_BN_B, h_wheels, r_N_m, v_N_m_s, propellant_kg)
-    bias = np.radians(np.array(sc.iru.bias_deg_h)) / 3600.0
-    iru_state = iru.iru_initial_state(bias, np.zeros(3), np.asarray(omega_BN_B, float), p.iru)
-    return plant.make_truth_state(x, iru_state, sc.n_wheels, len(sc.thrusters.units))
+    w = p.dyn.wheels
+    bias = np.radians(np.array(sc.sensors.iru_units.bias_deg_h)) / 3600.0
+    omega = np.asarray(omega_BN_B, float)
+    speeds = np.asarray(h_wheels, float) / w.spin_inertia - w.axes_B @ omega
+    sensors = SensorStates(iru_units.iru_units_initial_state(bias, np.zeros(3), omega, p.sensors.iru),
+                           tachometer.tachometer_initial_state(speeds))
+    return plant.make_truth_state(x, sensors, len(sc.star_trackers), sc.n_wheels, len(sc.thrusters.units))

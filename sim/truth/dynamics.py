@@ -27,7 +27,7 @@ from sim.linalg import inv3
 from sim.truth import mass as massmod
 from sim.truth.disturbances import SrpParams, gravity_gradient_torque_B, srp_force_torque_B
 from sim.truth.ephemeris import EphemerisTable
-from sim.truth.gravity import GravityParams, gravity_accel_N
+from sim.truth.gravity import GravityParams, gravity_accel3
 from sim.truth.rigid_body import IH, IQ, IW, WheelParams, attitude_state_size, body_derivatives
 from sim.truth.thrusters import EngineParams, ThrusterParams, thrust_force_torque_B
 
@@ -69,14 +69,20 @@ class Held(NamedTuple):
     """Loads and mass properties held over one RK4 step (preallocated)."""
     torque_B: np.ndarray      # (3,) total external torque
     force_N: np.ndarray       # (3,) non-gravitational force, inertial axes
+    inertia_B: np.ndarray     # (3, 3) about the centre of mass
     j_prime: np.ndarray       # (3, 3) inertia less the rotors' spin inertia
     j_prime_inv: np.ndarray   # (3, 3)
     j_prime_dot: np.ndarray   # (3, 3)
-    scalars: np.ndarray       # (2,) [1 / mass kg^-1, propellant flow kg/s]
+    cm_B: np.ndarray          # (3,) centre of mass, structure frame
+    scalars: np.ndarray       # (3,) [1 / mass kg^-1, propellant flow kg/s, propellant of the mass properties kg]
+
+
+H_INV_MASS, H_FLOW, H_MASS_OF = 0, 1, 2
 
 
 def make_held() -> Held:
-    return Held(np.zeros(3), np.zeros(3), np.eye(3), np.eye(3), np.zeros((3, 3)), np.zeros(2))
+    return Held(np.zeros(3), np.zeros(3), np.eye(3), np.eye(3), np.eye(3), np.zeros((3, 3)), np.zeros(3),
+                np.array([0.0, 0.0, np.nan]))
 
 
 class Loads(NamedTuple):
@@ -114,24 +120,50 @@ def initial_state(q_BN, omega_BN_B_rad_s, h_wheels_Nms, r_N_m, v_N_m_s, propella
 
 
 @njit(cache=True)
-def loads(x, p, inp):
+def loads_at(x, p, inp, cm, inertia):
+    """Forces and torques with the centre of mass and inertia given. A load
+    that is switched off, or that has nothing to act (no thruster firing, Sun
+    eclipsed), is skipped, not computed and multiplied by zero."""
     n = p.wheels.axes_B.shape[0]
     ir = IH + n + 3
     q = x[IQ:IQ + 4]
-    m_prop = x[ir + 6]
-    cm = massmod.centre_of_mass_B(m_prop, p.mass)
     r_N = x[ir:ir + 3]
-    to_sun_N = inp.sun_N_m - r_N
-    d_sun = np.sqrt(np.sum(to_sun_N * to_sun_N))
-    f_srp, t_srp = srp_force_torque_B(quat_rotate_inv(q, to_sun_N / d_sun), d_sun, inp.lit_fraction[0], cm, p.srp)
-    t_gg = gravity_gradient_torque_B(quat_rotate_inv(q, r_N), massmod.inertia_B(m_prop, p.mass), p.gravity.mu_m3_s2)
-    on, engine = inp.thruster_on, inp.engine_on[0]
-    if m_prop <= 0.0:  # dry tanks: nothing fires
-        on, engine = on * 0.0, 0.0
-    f_thr, t_thr, flow, t_eng = thrust_force_torque_B(on, engine, cm, p.thrusters, p.engine)
-    s = p.switches
-    return Loads(s[SW_SRP] * t_srp, s[SW_GRAVITY_GRADIENT] * t_gg, t_thr - t_eng, s[SW_ENGINE_TORQUE] * t_eng,
-                 s[SW_SRP] * f_srp + f_thr, flow)
+    zero = np.zeros(3)
+    f_srp, t_srp = zero, zero
+    if p.switches[SW_SRP] > 0.0 and inp.lit_fraction[0] > 0.0:
+        to_sun_N = inp.sun_N_m - r_N
+        d_sun = np.sqrt(np.sum(to_sun_N * to_sun_N))
+        f_srp, t_srp = srp_force_torque_B(quat_rotate_inv(q, to_sun_N / d_sun), d_sun, inp.lit_fraction[0], cm,
+                                          p.srp)
+    t_gg = zero
+    if p.switches[SW_GRAVITY_GRADIENT] > 0.0:
+        t_gg = gravity_gradient_torque_B(quat_rotate_inv(q, r_N), inertia, p.gravity.mu_m3_s2)
+    f_thr, t_thr, t_eng, flow = zero, zero, zero, 0.0
+    engine = inp.engine_on[0]
+    if x[ir + 6] > 0.0 and (engine > 0.0 or np.any(inp.thruster_on > 0.0)):  # dry tanks: nothing fires
+        f_thr, t_all, flow, t_eng = thrust_force_torque_B(inp.thruster_on, engine, cm, p.thrusters, p.engine)
+        t_thr = t_all - t_eng
+        t_eng = p.switches[SW_ENGINE_TORQUE] * t_eng
+    return Loads(t_srp, t_gg, t_thr, t_eng, f_srp + f_thr, flow)
+
+
+@njit(cache=True)
+def loads(x, p, inp):
+    """Forces and torques at one instant (telemetry)."""
+    n = p.wheels.axes_B.shape[0]
+    m_prop = x[IH + n + 3 + 6]
+    return loads_at(x, p, inp, massmod.centre_of_mass_B(m_prop, p.mass), massmod.inertia_B(m_prop, p.mass))
+
+
+@njit(cache=True)
+def _update_mass_properties(m_prop, p, held):
+    """Only when the propellant has changed: between burns this is skipped."""
+    held.inertia_B[:] = massmod.inertia_B(m_prop, p.mass)
+    held.j_prime[:] = held.inertia_B - p.wheels.spin_inertia_B
+    held.j_prime_inv[:] = inv3(held.j_prime)
+    held.cm_B[:] = massmod.centre_of_mass_B(m_prop, p.mass)
+    held.scalars[H_INV_MASS] = 1.0 / massmod.total_mass_kg(m_prop, p.mass)
+    held.scalars[H_MASS_OF] = m_prop
 
 
 @njit(cache=True)
@@ -139,15 +171,15 @@ def hold_loads(x, p, inp, held):
     """Evaluate the slowly varying loads and mass properties into `held`."""
     n = p.wheels.axes_B.shape[0]
     m_prop = x[IH + n + 3 + 6]
-    ld = loads(x, p, inp)
-    held.torque_B[:] = ld.torque_srp_B + ld.torque_gg_B + ld.torque_thrusters_B + ld.torque_engine_B
-    held.torque_B[:] += inp.torque_extra_B
+    if m_prop != held.scalars[H_MASS_OF]:
+        _update_mass_properties(m_prop, p, held)
+    ld = loads_at(x, p, inp, held.cm_B, held.inertia_B)
+    for k in range(3):
+        held.torque_B[k] = (ld.torque_srp_B[k] + ld.torque_gg_B[k] + ld.torque_thrusters_B[k]
+                            + ld.torque_engine_B[k] + inp.torque_extra_B[k])
     held.force_N[:] = quat_rotate(x[IQ:IQ + 4], ld.force_B)
-    held.j_prime[:] = massmod.inertia_B(m_prop, p.mass) - p.wheels.spin_inertia_B
-    held.j_prime_inv[:] = inv3(held.j_prime)
     held.j_prime_dot[:] = massmod.inertia_rate_per_kg(p.mass) * (-ld.flow_kg_s)
-    held.scalars[0] = 1.0 / massmod.total_mass_kg(m_prop, p.mass)
-    held.scalars[1] = ld.flow_kg_s
+    held.scalars[H_FLOW] = ld.flow_kg_s
 
 
 @njit(cache=True)
@@ -156,12 +188,14 @@ def derivatives(x, p, inp, held, dx):
     ir = IH + n + 3
     body_derivatives(x, held.j_prime, held.j_prime_inv, held.j_prime_dot, p.wheels, inp.wheel_faults,
                      inp.wheel_cmd_Nm, held.torque_B, dx)
-    accel = gravity_accel_N(x[ir:ir + 3], inp.t_s[0], p.gravity, p.ephem)
-    inv_mass = held.scalars[0]
+    ax, ay, az = gravity_accel3(x[ir], x[ir + 1], x[ir + 2], inp.t_s[0], p.gravity, p.ephem)
+    inv_mass = held.scalars[H_INV_MASS]
     for k in range(3):
         dx[ir + k] = x[ir + 3 + k]
-        dx[ir + 3 + k] = accel[k] + held.force_N[k] * inv_mass
-    dx[ir + 6] = -held.scalars[1]
+    dx[ir + 3] = ax + held.force_N[0] * inv_mass
+    dx[ir + 4] = ay + held.force_N[1] * inv_mass
+    dx[ir + 5] = az + held.force_N[2] * inv_mass
+    dx[ir + 6] = -held.scalars[H_FLOW]
 
 
 @njit(cache=True)

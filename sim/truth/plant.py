@@ -15,38 +15,35 @@ from numba import njit
 from sim.truth import dynamics
 from sim.truth.dynamics import DynamicsParams, StepInputs  # noqa: F401 (StepInputs: the type of TruthState.inputs)
 from sim.truth.eclipse import lit_fraction, sun_vector_apparent_N
-from sim.truth.ephemeris import earth_velocity_bary_N, sun_position_N
+from sim.truth.ephemeris import earth_velocity_bary_N, moon_position_N, sun_position_N
 from sim.truth.rigid_body import IH, IQ, IW
-from sim.truth.sensors import iru, star_tracker
+from sim.truth.sensor_suite import SensorFaults, SensorParams, SensorStates, sample_all
+from sim.truth.sensor_suite import make_faults as make_sensor_faults
+from sim.truth.wheels import wheel_speeds_rad_s
 from sim.truth.thrusters import N_FAULT_SLOTS as N_THRUSTER_FAULT_SLOTS
 from sim.truth.thrusters import on_fraction
 
-ARCSEC = np.pi / 180.0 / 3600.0
-
-
 class TruthParams(NamedTuple):
     dyn: DynamicsParams
-    iru: iru.IruParams
-    st: star_tracker.StarTrackerParams
+    sensors: SensorParams
     truth_dt: float
     substeps: int
 
 
 class TruthState(NamedTuple):
-    x: np.ndarray              # dynamics state vector
-    iru: np.ndarray            # IRU counter state
-    inputs: StepInputs         # what acts over the current RK4 step (also read by telemetry)
+    x: np.ndarray                # dynamics state vector
+    sensors: SensorStates        # sensor internal states (gyro counters, tachometer pulses)
+    sensor_faults: SensorFaults
+    inputs: StepInputs           # what acts over the current RK4 step (also read by telemetry)
     thruster_faults: np.ndarray  # (n_thrusters, N_THRUSTER_FAULT_SLOTS)
-    held: dynamics.Held        # loads held over the current RK4 step
-    work: np.ndarray           # (5, len(x)) RK4 scratch
+    held: dynamics.Held          # loads held over the current RK4 step
+    work: np.ndarray             # (5, len(x)) RK4 scratch
 
 
-def noise_per_cycle(n_star_trackers: int) -> int:
-    return iru.N_NOISE + star_tracker.N_NOISE * n_star_trackers
-
-
-def make_truth_state(x: np.ndarray, iru_state: np.ndarray, n_wheels: int, n_thrusters: int) -> TruthState:
-    return TruthState(x, iru_state, dynamics.make_inputs(n_wheels, n_thrusters), np.zeros((n_thrusters, N_THRUSTER_FAULT_SLOTS)), dynamics.make_held(),
+def make_truth_state(x: np.ndarray, sensors: SensorStates, n_star_trackers: int, n_wheels: int,
+                     n_thrusters: int) -> TruthState:
+    return TruthState(x, sensors, make_sensor_faults(n_star_trackers, n_wheels),
+                      dynamics.make_inputs(n_wheels, n_thrusters), np.zeros((n_thrusters, N_THRUSTER_FAULT_SLOTS)), dynamics.make_held(),
                       np.empty((5, x.shape[0])))
 
 
@@ -73,10 +70,14 @@ def apparent_sun_N(ts, p):
 
 @njit(cache=True)
 def sense(ts, p, noise, rec):
-    n = p.dyn.wheels.axes_B.shape[0]
+    w = p.dyn.wheels
+    n = w.axes_B.shape[0]
+    ir = IH + n + 3
     x = ts.x
-    iru.iru_sample(ts.iru, p.iru, x[IH + n:IH + n + 3], noise[:iru.N_NOISE], rec.iru_rate_B_rad_s)
-    star_tracker.star_tracker_sample(x[IQ:IQ + 4], p.st, noise[iru.N_NOISE:], rec.st_q_SN, rec.st_valid)
+    speeds = wheel_speeds_rad_s(x[IH:IH + n], x[IW:IW + 3], w.axes_B, w.spin_inertia)
+    sample_all(x[IQ:IQ + 4], x[IH + n:IH + n + 3], speeds, apparent_sun_N(ts, p), ts.inputs.lit_fraction[0],
+               x[ir:ir + 3], moon_position_N(p.dyn.ephem, ts.inputs.t_s[0]), ts.sensors, p.sensors,
+               ts.sensor_faults, noise, rec)
 
 
 @njit(cache=True)

@@ -23,7 +23,7 @@ def rotor_torque_Nm(speed_rad_s, u_cmd_Nm, p):
     """dh/dt of one rotor spinning at speed_rad_s relative to the body: the
     commanded motor torque clipped to the hardware limit and cut where it would
     drive the rotor past its momentum capacity, plus viscous and Coulomb drag
-    (tanh keeps the Coulomb force smooth for RK4). p: BodyParams."""
+    (tanh keeps the Coulomb force smooth for RK4). p: WheelParams."""
     motor = min(max(u_cmd_Nm, -p.torque_max), p.torque_max)
     h_rel = speed_rad_s * p.spin_inertia
     if (h_rel >= p.h_max and motor > 0.0) or (h_rel <= -p.h_max and motor < 0.0):
