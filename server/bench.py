@@ -44,7 +44,10 @@ def basilisk_mirror() -> dict:
             "timing": {"truth_dt_s": 0.1, "control_dt_s": 0.1},
             "wheels": {"axes_B": axes, "spin_inertia_kgm2": spin_inertia, "h_max_Nms": 75.0,
                        "torque_max_Nm": 0.2, "torque_limit_sw_Nm": 0.2, "viscous_Nm_per_rad_s": 0.0,
-                       "coulomb_Nm": 0.0}},
+                       "coulomb_Nm": 0.0},
+            # the reference's spacecraft carries no Sun sensors or tachometers: attitude
+            # and rates only (its simpleNav; here the IRU and the star trackers)
+            "sensors": {"css": None, "dss": None, "guide_telescopes": None, "tachometers": None}},
         "initial": {"mode": "INERTIAL", "q_BN": quat_from_mrp(np.array([0.1, 0.2, -0.3])).tolist(),
                     "omega_BN_B_rad_s": omega0, "h_wheels_Nms": h0, "target_q_RN": [1.0, 0.0, 0.0, 0.0]},
         # the reference has no environment: no disturbance torque, point-mass gravity

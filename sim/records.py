@@ -31,12 +31,13 @@ class ActuatorCommand(NamedTuple):
     engine_on: np.ndarray         # (1,) main engine on for the whole cycle: 1.0, else 0.0
 
 
-def empty_sensor_record(n_star_trackers: int, n_wheels: int) -> SensorRecord:
+def empty_sensor_record(n_star_trackers: int, n_wheels: int, n_css: int = 16, n_gt: int = 4) -> SensorRecord:
+    """Absent sensors have zero units (n_css, n_gt) or never turn valid (DSS, tachometers)."""
     def flags(n):
         return np.zeros(n, dtype=np.bool_)
 
     return SensorRecord(np.zeros(6), flags(6), np.zeros((n_star_trackers, 4)), flags(n_star_trackers),
-                        np.zeros(16), np.zeros(2), flags(1), np.zeros((4, 2)), flags(4), flags(4),
+                        np.zeros(n_css), np.zeros(2), flags(1), np.zeros((n_gt, 2)), flags(n_gt), flags(n_gt),
                         np.zeros(n_wheels), flags(n_wheels))
 
 

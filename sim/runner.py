@@ -101,14 +101,14 @@ class Runner:
         propellant = sc.mass.propellant_kg if init.propellant_kg is None else init.propellant_kg
         self.truth = build.make_truth_state(sc, self.truth_params, init.q_BN, init.omega_BN_B_rad_s, h0, r0, v0,
                                             propellant)
-        self.sensors = empty_sensor_record(len(sc.star_trackers), sc.n_wheels)
+        self.sensors = empty_sensor_record(len(sc.star_trackers), sc.n_wheels, *telemetry_fields.sensor_counts(sc))
         n_thr = len(sc.thrusters.units)
         self.act_applied = empty_actuator_command(sc.n_wheels, n_thr)
         self.act_new = empty_actuator_command(sc.n_wheels, n_thr)
         # The flight software starts knowing the initial attitude (as if uplinked).
         self.fsw = FlightSoftware(sc, initial_mode(scenario), init.q_BN, initial_target(scenario))
 
-        self.n_noise = sensor_suite.noise_per_cycle(len(sc.star_trackers))
+        self.n_noise = sensor_suite.noise_per_cycle(self.truth_params.sensors)
         self._noise = np.empty((0, self.n_noise))
         self._noise_row = 0
         self._slew: tuple[CommandRecord, int] | None = None  # executing slew and its deadline cycle

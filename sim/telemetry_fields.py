@@ -42,18 +42,20 @@ def always_fields(n_wheels: int = 4) -> list[str]:
             + _numbered("h_wheel", "_Nms", n_wheels) + _vec("h_total_N", "_Nms") + ["att_err_arcsec"])
 
 
-def sensor_fields(n_star_trackers: int, n_wheels: int) -> list[str]:
-    """Each sensor's outputs, named after the sensor (sim/records.py SensorRecord)."""
+def sensor_fields(n_star_trackers: int, n_wheels: int, n_css: int, n_gt: int) -> list[str]:
+    """Each sensor's outputs, named after the sensor (sim/records.py SensorRecord);
+    an absent DSS or tachometer set keeps its columns, never valid."""
     return (_numbered("iru_rate_ch", "_rad_s", 6) + _numbered("iru_ch_valid", "", 6)
-            + _numbered("st_valid", "", n_star_trackers) + _numbered("css_current", "_A", 16)
+            + _numbered("st_valid", "", n_star_trackers) + _numbered("css_current", "_A", n_css)
             + ["dss_alpha_rad", "dss_beta_rad", "dss_valid"]
-            + [f"gt_{i + 1}_{a}_arcsec" for i in range(4) for a in ("y", "z")]
-            + _numbered("gt_valid", "", 4) + _numbered("gt_in_range", "", 4)
+            + [f"gt_{i + 1}_{a}_arcsec" for i in range(n_gt) for a in ("y", "z")]
+            + _numbered("gt_valid", "", n_gt) + _numbered("gt_in_range", "", n_gt)
             + _numbered("tach_speed", "_rpm", n_wheels) + _numbered("tach_valid", "", n_wheels))
 
 
 @functools.cache
-def field_names(n_wheels: int = 4, n_thrusters: int = 8, n_star_trackers: int = 2) -> tuple[str, ...]:
+def field_names(n_wheels: int = 4, n_thrusters: int = 8, n_star_trackers: int = 2, n_css: int = 16,
+                n_gt: int = 4) -> tuple[str, ...]:
     return tuple(always_fields(n_wheels) + (
         ["h_total_Nms", "est_err_arcsec"] + _vec("q_est_BN", axes=WXYZ) + _vec("q_RN", axes=WXYZ)
         + _vec("theta_e_B", "_arcsec") + _vec("iru_rate_B", "_rad_s")
@@ -65,11 +67,17 @@ def field_names(n_wheels: int = 4, n_thrusters: int = 8, n_star_trackers: int = 
         + _vec("torque_thrusters_B", "_Nm") + ["mass_kg", "propellant_kg"]
         + _vec("r_N", "_m") + _vec("v_N", "_m_s")
         + _numbered("thr_pulses", "", n_thrusters) + ["engine_on"]
-        + sensor_fields(n_star_trackers, n_wheels)))
+        + sensor_fields(n_star_trackers, n_wheels, n_css, n_gt)))
+
+
+def sensor_counts(sc) -> tuple[int, int]:
+    """(CSS eyes, guide telescopes) of a spacecraft: zero when it has none."""
+    s = sc.sensors
+    return (16 if s.css else 0), (len(s.guide_telescopes.units) if s.guide_telescopes else 0)
 
 
 def names_for(sc) -> tuple[str, ...]:
-    return field_names(sc.n_wheels, len(sc.thrusters.units), len(sc.star_trackers))
+    return field_names(sc.n_wheels, len(sc.thrusters.units), len(sc.star_trackers), *sensor_counts(sc))
 
 
 @njit(cache=True)

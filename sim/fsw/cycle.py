@@ -51,7 +51,7 @@ class FswState(NamedTuple):
     iru_ch_use: np.ndarray           # (6,) bool: channels rate selection may use (FDC clears failed ones)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def inertial_law(rate_B, s, p):
     """Seed 001 eq. (1)-(3): errors against the target and the PID torque."""
     s.theta_e[:] = small_angle_error(error_quat(s.q_RN, s.q_est_BN))
@@ -65,7 +65,7 @@ def inertial_law(rate_B, s, p):
     return EVENT_NONE
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def fsw_cycle(rec, s, p, act):
     rate, _ = least_squares_rate(rec.iru_rate_ch_rad_s, p.iru_ch_axes_B, rec.iru_ch_valid & s.iru_ch_use)
     s.rate_B[:] = rate

@@ -18,7 +18,7 @@ def distribution_matrix(axes_B) -> np.ndarray:
     return -np.linalg.pinv(np.asarray(axes_B, float).T)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def distribute(torque_B, dist, limit, u_out):
     """Write wheel motor torques to u_out; return the undelivered body torque."""
     u = matvec(dist, torque_B)

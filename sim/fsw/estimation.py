@@ -15,7 +15,7 @@ def body_from_tracker(q_SN, q_BS):
     return quat_mul(q_SN, quat_conj(q_BS))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def estimate_attitude(source, q_est_BN, rate_B, q_SN, st_valid, q_BS, dt):
     """Fly the tracker when it is valid and selected, else propagate with the
     IRU rates measured over the last cycle."""

@@ -20,7 +20,7 @@ from sim.linalg import inv3, matvec
 WELL_CONDITIONED = 1e-3  # det(N) / (trace(N) / 3)^3 above this: all three directions are well seen
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def masked_least_squares(H, y, use, rel_tol):
     """(x, rank): minimum-norm least-squares solution over rows with use[k]."""
     n = H.shape[1]

@@ -46,7 +46,7 @@ def in_integral_box(theta_e, omega_e, theta_lim, omega_lim):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def pid_torque(theta_e, omega_e, integral, p):
     """Commanded body torque (N m); updates `integral` in place. Returns the
     torque and whether the integrator ran this cycle."""

@@ -13,7 +13,7 @@ from sim.fsw.masked_least_squares import masked_least_squares
 RANK_TOL = 1e-9   # relative eigenvalue below which a direction counts as unseen
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def least_squares_rate(ch_rates, ch_axes_B, valid):
     """(omega_B rad/s, ok): ok is False when the trusted channels do not span
     all three axes; the unseen components are then zero."""

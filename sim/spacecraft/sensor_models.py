@@ -145,10 +145,13 @@ class Tachometers(Strict):
 
 
 class SensorSuite(Strict):
-    """The sensor sections as the sensors section of sim/spacecraft/sdo.yaml gives them."""
+    """The sensors section of a spacecraft file. The IRU and the star trackers
+    are always there (every mode needs rates and attitude); a spacecraft
+    without coarse Sun sensors, a digital Sun sensor, guide telescopes or
+    wheel tachometers leaves that section out (null)."""
     iru_units: IruUnits
     star_tracker_exclusion: StarTrackerExclusion
-    css: Css
-    dss: Dss
-    guide_telescopes: GuideTelescopes
-    tachometers: Tachometers
+    css: Css | None = None
+    dss: Dss | None = None
+    guide_telescopes: GuideTelescopes | None = None
+    tachometers: Tachometers | None = None

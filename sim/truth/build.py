@@ -15,6 +15,7 @@ from sim.truth.gravity import make_gravity_params
 from sim.truth.mass import make_mass_params
 from sim.truth.orbit import OrbitElements, sdo_orbit
 from sim.truth.rigid_body import make_wheel_params
+from sim.truth import sensor_suite
 from sim.truth.sensor_suite import SensorParams, SensorStates
 from sim.truth.sensors import css, dss, guide_telescope, iru_units, star_tracker, star_tracker_exclusion, tachometer
 from sim.truth.thrusters import LBF_N, EngineParams, ThrusterParams
@@ -93,13 +94,16 @@ def make_sensor_params(sc: Spacecraft) -> SensorParams:
         np.array([t.q_BS for t in sc.star_trackers], float),
         np.array([[t.noise_transverse_arcsec_3sigma, t.noise_transverse_arcsec_3sigma,
                    t.noise_boresight_arcsec_3sigma] for t in sc.star_trackers]) / 3.0 * ARCSEC)
+    tach_pulses = ss.tachometers.pulses_per_rev if ss.tachometers else 1
     return SensorParams(
         iru_units.make_iru_units_params(**ss.iru_units.model_dump(exclude={"bias_deg_h"}), dt=dt),
         star_tracker_exclusion.make_star_tracker_exclusion_params(st, **ss.star_tracker_exclusion.model_dump()),
-        css.make_css_params(**ss.css.model_dump()),
-        dss.make_dss_params(**ss.dss.model_dump()),
-        guide_telescope.make_guide_telescope_params(**ss.guide_telescopes.model_dump()),
-        tachometer.make_tachometer_params(**ss.tachometers.model_dump(), dt=dt))
+        css.make_css_params(**ss.css.model_dump()) if ss.css else sensor_suite.ABSENT_CSS,
+        dss.make_dss_params(**ss.dss.model_dump()) if ss.dss else sensor_suite.ABSENT_DSS,
+        (guide_telescope.make_guide_telescope_params(**ss.guide_telescopes.model_dump()) if ss.guide_telescopes
+         else sensor_suite.ABSENT_GT),
+        tachometer.make_tachometer_params(tach_pulses, dt=dt),
+        np.array([float(ss.dss is not None), float(ss.tachometers is not None)]))
 
 
 def make_truth_params(sc: Spacecraft, world: World) -> plant.TruthParams:
@@ -116,4 +120,4 @@ def make_truth_state(sc: Spacecraft, p: plant.TruthParams, q_BN, omega_BN_B, h_w
     speeds = np.asarray(h_wheels, float) / w.spin_inertia - w.axes_B @ omega
     sensors = SensorStates(iru_units.iru_units_initial_state(bias, np.zeros(3), omega, p.sensors.iru),
                            tachometer.tachometer_initial_state(speeds))
-    return plant.make_truth_state(x, sensors, len(sc.star_trackers), sc.n_wheels, len(sc.thrusters.units))
+    return plant.make_truth_state(x, sensors, p.sensors, sc.n_wheels, len(sc.thrusters.units))

@@ -119,7 +119,7 @@ def initial_state(q_BN, omega_BN_B_rad_s, h_wheels_Nms, r_N_m, v_N_m_s, propella
     return x
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def loads_at(x, p, inp, cm, inertia):
     """Forces and torques with the centre of mass and inertia given. A load
     that is switched off, or that has nothing to act (no thruster firing, Sun
@@ -166,7 +166,7 @@ def _update_mass_properties(m_prop, p, held):
     held.scalars[H_MASS_OF] = m_prop
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def hold_loads(x, p, inp, held):
     """Evaluate the slowly varying loads and mass properties into `held`."""
     n = p.wheels.axes_B.shape[0]
@@ -182,7 +182,7 @@ def hold_loads(x, p, inp, held):
     held.scalars[H_FLOW] = ld.flow_kg_s
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def derivatives(x, p, inp, held, dx):
     n = p.wheels.axes_B.shape[0]
     ir = IH + n + 3
@@ -198,7 +198,7 @@ def derivatives(x, p, inp, held, dx):
     dx[ir + 6] = -held.scalars[H_FLOW]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def rk4_step(x, p, inp, held, dt, work):
     """One fixed RK4 step in place. work: (5, len(x)) scratch, so the step
     allocates no state-sized arrays."""

@@ -40,14 +40,14 @@ class TruthState(NamedTuple):
     work: np.ndarray             # (5, len(x)) RK4 scratch
 
 
-def make_truth_state(x: np.ndarray, sensors: SensorStates, n_star_trackers: int, n_wheels: int,
+def make_truth_state(x: np.ndarray, sensors: SensorStates, sensor_params: SensorParams, n_wheels: int,
                      n_thrusters: int) -> TruthState:
-    return TruthState(x, sensors, make_sensor_faults(n_star_trackers, n_wheels),
+    return TruthState(x, sensors, make_sensor_faults(sensor_params, n_wheels),
                       dynamics.make_inputs(n_wheels, n_thrusters), np.zeros((n_thrusters, N_THRUSTER_FAULT_SLOTS)), dynamics.make_held(),
                       np.empty((5, x.shape[0])))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def set_environment(ts, p, t_s):
     """Fix the Sun's position and the lit fraction for the cycle starting at t_s."""
     n = p.dyn.wheels.axes_B.shape[0]
@@ -58,7 +58,7 @@ def set_environment(ts, p, t_s):
     ts.inputs.t_s[0] = t_s
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def apparent_sun_N(ts, p):
     """Unit vector from the spacecraft to the Sun as its sensors see it (aberration included)."""
     n = p.dyn.wheels.axes_B.shape[0]
@@ -68,7 +68,7 @@ def apparent_sun_N(ts, p):
                                  earth_velocity_bary_N(p.dyn.ephem, ts.inputs.t_s[0]))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def sense(ts, p, noise, rec):
     w = p.dyn.wheels
     n = w.axes_B.shape[0]
@@ -80,7 +80,7 @@ def sense(ts, p, noise, rec):
                ts.sensor_faults, noise, rec)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def propagate(ts, p, act):
     """Integrate over one control cycle with the actuator command `act` held."""
     inp = ts.inputs

@@ -52,7 +52,7 @@ def attitude_state_size(n_wheels: int) -> int:
     return IH + n_wheels + 3
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def body_derivatives(x, j_prime, j_prime_inv, j_prime_dot, w, wheel_faults, u_cmd_Nm, torque_ext_B, dx):
     """d/dt of the attitude part of x, written into dx. Scalar code: it runs
     four times per RK4 step."""

@@ -42,7 +42,7 @@ FAIL_OFF, STUCK_ON = 0, 1
 N_FAULT_SLOTS = 2
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def on_fraction(pulses, step_index, step_s, pulse_s, faults, out):
     """Fraction of RK4 step `step_index` of the cycle during which each
     thruster fires: on from the top of the cycle for pulses * pulse_s."""

@@ -48,7 +48,7 @@ def make_css_params(boresights_primary_B, boresights_backup_B, fov_half_angle_de
                      float(full_sun_current_A), noise_A_3sigma / 3.0, float(lsb_A))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def css_sample(q_BN, sun_N, lit_fraction, p, noise, fault, current_out):
     """Every eye's current (A) at t_k."""
     sun_B = quat_rotate_inv(q_BN, sun_N)

@@ -64,7 +64,7 @@ def dss_sigma(theta_rad, p):
     return p.sigma_inner_rad + x * (p.sigma_edge_rad - p.sigma_inner_rad)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def dss_sample(q_BN, sun_N, lit_fraction, p, noise, fault, angles_out, valid_out):
     """[alpha, beta] (rad) into angles_out, valid_out[0]."""
     s_D = direction_in_sensor(q_BN, sun_N, p.dcm_DB)

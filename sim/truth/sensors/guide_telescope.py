@@ -60,7 +60,7 @@ def make_guide_telescope_params(units, fov_half_angle_deg, fine_range_arcsec, no
                                 noise_arcsec_3sigma / 3.0 * ARCSEC, float(lit_fraction_min))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def guide_telescope_sample(q_BN, sun_N, lit_fraction, p, noise, fault, offset_out, valid_out, in_range_out):
     """offset_out (4, 2) rad, valid_out (4,), in_range_out (4,)."""
     r = p.fine_range_rad

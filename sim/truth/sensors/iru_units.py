@@ -94,7 +94,7 @@ def _followed_angles(theta_int_B, state, p, fault, valid_out):
     return theta
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def iru_units_sample(theta_int_B, state, p, noise, fault, rate_ch_out, valid_out):
     """One sample at t_k: each channel's mean rate over [t_k-1, t_k] (rad/s)."""
     theta = _followed_angles(theta_int_B, state, p, fault, valid_out)

@@ -57,7 +57,7 @@ def excluded(boresight_N, sun_N, lit_fraction, earth_N, earth_radius_rad, moon_N
     return angle_between(boresight_N, moon_N) < p.moon_half_angle_rad + moon_radius_rad
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def star_tracker_exclusion_sample(q_BN, sun_N, lit_fraction, earth_N, earth_radius_rad, moon_N, moon_radius_rad,
                                   p, noise, fault, q_out, valid_out):
     """Measure every tracker (fixed noise use), then blank those without a solution."""

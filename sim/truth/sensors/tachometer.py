@@ -48,7 +48,7 @@ def tachometer_initial_state(wheel_speed_rad_s) -> np.ndarray:
     return s
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def tachometer_sample(wheel_speed_rad_s, state, p, fault, speed_out, valid_out):
     """Measured speed of each wheel relative to the body (rad/s) at t_k."""
     for j in range(wheel_speed_rad_s.shape[0]):
