@@ -58,8 +58,8 @@ async def service_unavailable(request: Request, exc: Exception) -> JSONResponse:
 def api_surface(schema: dict) -> dict:
     """The OpenAPI schema without the command models: those belong to sim/ and
     grow with each flight-software issue; the API around them is what
-    tests/openapi.json pins."""
-    names = {c.__name__ for c in COMMAND_TYPES.values()}
+    tests/openapi.json pins. The command union becomes a marker, and only the
+    component schemas still referenced from the rest are kept."""
 
     def strip(node):
         if isinstance(node, dict):
@@ -70,9 +70,23 @@ def api_surface(schema: dict) -> dict:
             return [strip(v) for v in node]
         return node
 
+    def refs(node, found: set) -> set:
+        if isinstance(node, dict):
+            ref = node.get("$ref", "")
+            if ref.startswith("#/components/schemas/") and ref.rsplit("/", 1)[1] not in found:
+                found.add(ref.rsplit("/", 1)[1])
+                refs(components.get(ref.rsplit("/", 1)[1], {}), found)
+            for v in node.values():
+                refs(v, found)
+        elif isinstance(node, list):
+            for v in node:
+                refs(v, found)
+        return found
+
     out = strip(schema)
-    for name in names:
-        out.get("components", {}).get("schemas", {}).pop(name, None)
+    components = out.get("components", {}).get("schemas", {})
+    used = refs(out.get("paths", {}), set())
+    out["components"]["schemas"] = {k: v for k, v in components.items() if k in used}
     return out
 
 

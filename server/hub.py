@@ -102,7 +102,7 @@ class Hub:
         ev = self._changed
         try:
             await asyncio.wait_for(ev.wait(), timeout)
-        except asyncio.TimeoutError:
+        except TimeoutError:
             pass
 
     def wait_change_thread(self, timeout: float) -> None:

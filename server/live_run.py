@@ -7,7 +7,7 @@ snapshot readers (`commands`, `command`) may run on any thread.
 from __future__ import annotations
 
 import threading
-from datetime import datetime, timezone
+from datetime import UTC, datetime
 
 import numpy as np
 
@@ -22,7 +22,7 @@ LAG_FIELD = "lag_s"
 
 
 def wall_utc() -> str:
-    return datetime.now(timezone.utc).isoformat(timespec="milliseconds").replace("+00:00", "Z")
+    return datetime.now(UTC).isoformat(timespec="milliseconds").replace("+00:00", "Z")
 
 
 class LiveRecorder(ArchiveRecorder):

@@ -21,7 +21,7 @@ from pathlib import Path
 from server.archive import Archive
 from server.hub import Hub
 from server.live_run import LiveRun
-from server.pacing import MAX, Pacer
+from server.pacing import Pacer
 from sim.commands import CommandBase
 from sim.events import INFO, Event
 from sim.scenario import load_scenario, parse_scenario

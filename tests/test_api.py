@@ -13,10 +13,11 @@ from __future__ import annotations
 
 import csv
 import io
+import itertools
 import json
 import math
 import time
-from datetime import datetime, timedelta, timezone
+from datetime import UTC, datetime, timedelta
 from pathlib import Path
 
 import pytest
@@ -224,7 +225,7 @@ def test_events_have_severity_source_sim_time_and_utc(client):
     epoch = datetime.fromisoformat(client.get("/api/runs").json()["live"]["epoch_utc"])
     for e in events:
         assert e["severity"] in ("info", "warning", "error") and e["source"]
-        utc = datetime.strptime(e["utc"], "%Y-%m-%dT%H:%M:%S.%fZ").replace(tzinfo=timezone.utc)
+        utc = datetime.strptime(e["utc"], "%Y-%m-%dT%H:%M:%S.%fZ").replace(tzinfo=UTC)
         assert abs((utc - (epoch + timedelta(seconds=e["t_s"]))).total_seconds()) < 1e-3
     assert all(e["severity"] != "info" for e in client.get("/api/events?severity=warning").json())
 
@@ -250,6 +251,17 @@ def test_csv_export(client):
     assert client.get("/api/export/secrets.csv").status_code == 404
 
 
+def test_alarm_from_a_slew_is_acknowledged(client):
+    # the 10 deg slew above took the attitude error past red (the controller's attitude limit)
+    alarm = wait_for(lambda: next((a for a in client.get("/api/alarms").json()
+                                   if a["channel"] == "att_err_arcsec" and a["worst"] == "red"), None))
+    assert not alarm["acknowledged"]
+    done = client.post(f"/api/alarms/{alarm['id']}/ack", json={"operator": "bob"}, headers=AUTH).json()
+    assert done["acknowledged"] and done["acknowledged_by"] == "rest:bob"
+    assert client.post("/api/alarms/99999/ack", headers=AUTH).status_code == 404
+    assert any("acknowledged by rest:bob" in e["message"] for e in client.get("/api/events").json())
+
+
 # -- WebSocket streams -------------------------------------------------------------------------------------
 
 def test_telemetry_stream_fields_and_rate(client):
@@ -262,7 +274,7 @@ def test_telemetry_stream_fields_and_rate(client):
             frames.append(msg["frame"])
             arrivals.append(time.monotonic())
         assert all(set(f) == {"t_s", "att_err_arcsec"} for f in frames)
-        assert all(b["t_s"] > a["t_s"] for a, b in zip(frames, frames[1:]))      # each frame once, in order
+        assert all(b["t_s"] > a["t_s"] for a, b in itertools.pairwise(frames))      # each frame once, in order
         assert arrivals[-1] - arrivals[0] >= 7 * 0.2 * 0.9                       # never faster than 5 Hz
         ws.send_text("not json")
         assert ws.receive_json()["type"] == "error"
@@ -280,6 +292,22 @@ def test_command_stream_follows_the_lifecycle(client):
             if item["id"] == cmd_id:
                 seen.append(item["state"])
         assert seen == ["queued", "accepted", "executing", "completed"]
+
+
+# -- another run (last: it replaces the module's live run) ------------------------------------------------
+
+def test_load_a_scenario_as_written_and_see_it_pass(client):
+    old = client.get("/api/runs").json()["live"]["run_id"]
+    client.post("/api/pacing", json={"warp": "max"}, headers=AUTH)
+    r = client.post("/api/runs", json={"scenario": "sdo_inertial_slew", "live": False}, headers=AUTH)
+    assert r.status_code == 201 and r.json()["duration_s"] == 900.0
+    new = r.json()["run_id"]
+    # its time-tagged slew sits in the same queue, from the scenario
+    assert [c["source"] for c in client.get("/api/commands").json()] == ["scenario"]
+    runs = wait_for(lambda: (rs := {x["id"]: x for x in client.get("/api/runs").json()["runs"]})[new]["status"]
+                    != "running" and rs, timeout_s=120)
+    assert runs[old]["status"] == "stopped"
+    assert runs[new]["status"] == "passed"          # its expectations, checked at its end
 
 
 # -- the pinned schema ---------------------------------------------------------------------------------------

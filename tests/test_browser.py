@@ -10,6 +10,7 @@ import json
 import os
 import shutil
 import socket
+import sqlite3
 import subprocess
 import sys
 import time
@@ -17,6 +18,8 @@ import urllib.request
 from pathlib import Path
 
 import pytest
+
+from sim.commands import COMMAND_TYPES
 
 REPO = Path(__file__).resolve().parent.parent
 ACS = Path(sys.executable).parent / "acs"
@@ -65,8 +68,15 @@ def served(tmp_path_factory):
         yield base, f"http://127.0.0.1:{gui}"
     finally:
         proc.terminate()
-        out, _ = proc.communicate(timeout=20)
-        assert TOKEN not in out, "the operator token appeared in the service's output"
+        out, _ = proc.communicate(timeout=30)
+    # SIGTERM: uvicorn ends the lifespan, which stops the console and the simulation
+    # cleanly (the run is archived as stopped), then re-raises the signal
+    assert proc.returncode in (0, -15), out
+    assert TOKEN not in out, "the operator token appeared in the service's output"
+    db = sqlite3.connect(archive)
+    assert db.execute("SELECT status FROM runs").fetchall() == [("stopped",)]
+    assert TOKEN.encode() not in archive.read_bytes()
+    db.close()
 
 
 def _field(page, label: str):
@@ -127,4 +137,25 @@ def test_unlock_command_a_slew_and_watch_it(served):
         page.get_by_role("button", name="Pause", exact=True).click()
         page.get_by_text("warp paused").wait_for(timeout=10_000)
         assert _get(f"{base}/api/pacing")["paused"]
+
+        # a hazardous command asks for confirmation in a modal; cancelling sends nothing
+        hazardous = [name for name, model in COMMAND_TYPES.items() if model.hazardous]
+        if hazardous:
+            n_before = len(_get(f"{base}/api/commands"))
+            _field(page, "Command").click()
+            page.get_by_role("option", name=hazardous[0], exact=True).click()
+            page.get_by_role("button", name="Send").click()
+            page.get_by_text(f"Send hazardous command {hazardous[0]}?").first.wait_for(timeout=10_000)
+            page.screenshot(path=str(ARTIFACTS / "console-confirm.png"))
+            page.get_by_role("button", name="Cancel").click()
+            time.sleep(0.5)   # what is tested is that nothing arrives
+            assert len(_get(f"{base}/api/commands")) == n_before
+
+        # the time conductor: this client replays the archived run, the others stay live
+        page.get_by_role("tab", name="Replay").click()
+        _field(page, "Time").click()
+        page.get_by_role("option", name="historical").click()
+        page.get_by_role("button", name="Load run").click()
+        page.get_by_text("HISTORICAL").first.wait_for(timeout=10_000)
+        assert page.get_by_text("mode INERTIAL").count() >= 1
         browser.close()

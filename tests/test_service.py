@@ -16,6 +16,7 @@ import sys
 import time
 import urllib.request
 from pathlib import Path
+from typing import Annotated, Literal, Union
 
 import pytest
 from pydantic import BaseModel, Field
@@ -24,7 +25,7 @@ from server.limits import NOMINAL, RED, YELLOW, Limit, LimitChecker, default_lim
 from server.pacing import Pacer
 from server.service import SimService, load_live_scenario
 from sim.commands import COMMAND_TYPES, ResetIntegrator, SetTargetQuaternion
-from web.forms import build_command, field_specs
+from web.forms import build_command, field_specs, initial_value, read_value
 
 REPO = Path(__file__).resolve().parent.parent
 LIVE = REPO / "scenarios" / "live_sdo.yaml"
@@ -61,10 +62,22 @@ def test_warp_values_and_resume():
         p.set(7, 5.0)
 
 
+def test_operator_token_from_environment_file_or_generated(tmp_path, monkeypatch):
+    from server.serve import operator_token
+
+    monkeypatch.setenv("ACS_TOKEN", "from-env")
+    assert operator_token(None) == ("from-env", False)
+    monkeypatch.delenv("ACS_TOKEN")
+    (tmp_path / "token").write_text("from-file\n")
+    assert operator_token(tmp_path / "token") == ("from-file", False)
+    a, generated = operator_token(None)
+    assert generated and len(a) >= 20 and a != operator_token(None)[0]
+
+
 # -- limits and alarms -------------------------------------------------------------------------
 
 def test_default_limits_come_from_the_seeds():
-    scenario, sc = load_live_scenario(LIVE, live=False)
+    _, sc = load_live_scenario(LIVE, live=False)
     limits = {lim.channel: lim for lim in default_limits(sc, sc.n_wheels)}
     # seed 000: integral torque box 250 arcsec
     assert limits["att_err_arcsec"].yellow == pytest.approx(250.0, abs=0.1)
@@ -102,17 +115,54 @@ def test_a_value_dithering_on_a_threshold_does_not_flood_the_log():
 
 # -- command forms ---------------------------------------------------------------------------------------
 
+def _variants(specs):
+    """Every choice of union variants a form offers, as widget values."""
+    combos = [[]]
+    for spec in specs:
+        if spec.kind == "union":
+            options = [(v, [initial_value(s) for s in spec.variants[v]]) for v in spec.options]
+        else:
+            options = [initial_value(spec)]
+        combos = [c + [o] for c in combos for o in options]
+    return combos
+
+
 def test_every_command_has_a_form_that_builds_it():
     frame = {"q_RN_w": 1.0, "q_RN_x": 0.0, "q_RN_y": 0.0, "q_RN_z": 0.0}
+    built = 0
     for type_name, model in COMMAND_TYPES.items():
         specs = field_specs(model, frame)
         assert {s.name for s in specs} == set(model.model_fields) - {"type"}
-        try:
-            command = build_command(type_name, specs, [s.initial for s in specs])
-        except ValueError as err:        # a required field with no neutral value: named in the message
-            assert any(s.name in str(err) for s in specs), err
-        else:
-            assert command.type == type_name
+        for values in _variants(specs):
+            try:
+                command = build_command(type_name, specs, values)
+            except ValueError as err:    # a required field with no neutral value: named in the message
+                assert any(s.name in str(err) for s in specs), err
+            else:
+                assert command.type == type_name
+                built += 1
+    assert built >= len(COMMAND_TYPES)
+
+
+def test_a_discriminated_union_field_offers_its_variants():
+    class Gci(BaseModel):
+        frame: Literal["gci"] = "gci"
+        q: tuple[float, float, float, float]
+
+    class Snr(BaseModel):
+        frame: Literal["snr"] = "snr"
+        delta_deg: float = Field(0.0, description="offset")
+        count: int = Field(ge=1)
+
+    class Slew(BaseModel):
+        type: str = "slew"
+        target: Annotated[Union[Gci, Snr], Field(discriminator="frame")]
+
+    (spec,) = field_specs(Slew)
+    assert spec.kind == "union" and spec.tag == "frame" and set(spec.options) == {"gci", "snr"}
+    assert [(s.name, s.kind, s.initial) for s in spec.variants["snr"]] == [("delta_deg", "number", 0.0),
+                                                                           ("count", "integer", 1)]
+    assert read_value(spec, ("snr", [0.5, 2])) == {"frame": "snr", "delta_deg": 0.5, "count": 2}
 
 
 def test_quaternion_form_prefills_from_telemetry_and_names_bad_fields():

@@ -15,6 +15,7 @@ import viser
 
 from web.operator import OperatorPanel
 from web.panels import ModeHistory, Plots, alarms_markdown, commands_markdown, events_markdown, status_markdown
+from web.replay import Replay
 from web.scene import SpacecraftScene
 
 log = logging.getLogger("acs.console")
@@ -71,11 +72,13 @@ class Console:
             self.alarms_md = gui.add_markdown("")
         with tabs.add_tab("Mode"):
             self.mode_md = gui.add_markdown("")
+        self.replay_tab = tabs.add_tab("Replay")
 
     def _on_connect(self, client) -> None:
         client.camera.position = (8.0, -9.0, 5.5)
         client.camera.look_at = (0.0, 0.0, 0.0)
         OperatorPanel(client, self.service, self.token, self.operator_folder, self.scenario_dir)
+        Replay(client, self.service, self.replay_tab)
 
     # -- updates ------------------------------------------------------------------------------------
     def _updater(self) -> None:

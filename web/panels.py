@@ -37,7 +37,7 @@ class Plots:
         for title, series, unit, factor in PLOTS:
             empty = tuple(np.zeros(1) for _ in range(len(series) + 1))
             h = gui.add_uplot(empty, _series([s[0] for s in series], unit), title=f"{title} [{unit}]", aspect=2.0,
-                              scales={"x": {"time": False}}, visible=False)
+                              scales={"x": {"time": False}}, axes=({}, {"size": 64}), visible=False)
             self.handles.append((h, series, factor))
 
     def update(self, window: list[dict]) -> None:

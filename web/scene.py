@@ -15,7 +15,7 @@ import numpy as np
 
 GOLD, WHITE, PANEL, GREY = (212, 175, 55), (235, 235, 235), (30, 50, 120), (150, 150, 150)
 SUN_YELLOW, EARTH_BLUE, PLUME = (255, 210, 40), (40, 110, 220), (255, 140, 30)
-EARTH_DIST = 25.0           # scene units from the spacecraft to the Earth's centre (not to scale)
+EARTH_DIST = 18.0           # scene units from the spacecraft to the Earth's centre (not to scale)
 R_EARTH_M = 6_378_137.0
 
 
@@ -53,19 +53,19 @@ class SpacecraftScene:
         s = server.scene
         s.set_up_direction("+z")
         s.add_frame("/gci", axes_length=1.5, axes_radius=0.02, origin_radius=0.05)
-        s.add_label("/gci/label", "GCI", position=(1.6, 0.0, 0.0))
+        s.add_label("/gci/label", "GCI", position=(0.0, -1.0, -1.9))
         self.body = s.add_frame("/sdo", axes_length=3.2, axes_radius=0.03)
         self._build_bus("/sdo")
         self.ghost = s.add_frame("/estimate", axes_length=2.6, axes_radius=0.015, origin_radius=0.01)
-        s.add_box("/estimate/bus", color=(120, 200, 255), dimensions=(2.2, 2.2, 2.2), wireframe=True,
-                  opacity=0.5)
+        # drawn a little larger than the bus so that it shows around it
+        s.add_box("/estimate/bus", color=(0, 150, 255), dimensions=(2.6, 2.6, 2.6), wireframe=True)
         self.target = s.add_frame("/target", axes_length=4.5, axes_radius=0.012, origin_radius=0.01)
         s.add_label("/target/label", "target", position=(4.6, 0.0, 0.0))
         self.wheel_labels = self._build_wheels("/sdo")
         self.plumes = self._build_plumes("/sdo")
         self.cgt = self._build_cgt("/sdo")
         self.sun = s.add_arrows("/sun", points=np.array([[[0, 0, 0], [9.0, 0, 0]]], float), colors=SUN_YELLOW,
-                                shaft_radius=0.05, head_radius=0.2, head_length=0.5, visible=False)
+                                shaft_radius=0.03, head_radius=0.15, head_length=0.4, visible=False)
         self.sun_label = s.add_label("/sun_label", "Sun", position=(9.5, 0, 0), visible=False)
         self.earth = s.add_icosphere("/earth", radius=1.0, color=EARTH_BLUE, visible=False)
         self.track = None
@@ -102,33 +102,33 @@ class SpacecraftScene:
 
     def _build_plumes(self, root: str) -> list:
         thrusters = getattr(getattr(self.sc, "thrusters", None), "units", None) or []
-        plumes = []
-        for i, t in enumerate(thrusters):
-            exhaust = -np.asarray(t.direction_B, float)  # the plume leaves opposite to the force
-            pos = np.asarray(t.position_B_m, float) + 0.4 * exhaust
-            plumes.append(self.server.scene.add_cylinder(
-                f"{root}/plume_{i + 1}", radius=0.12, height=0.8, color=PLUME, opacity=0.7,
-                position=tuple(pos), wxyz=quat_from_z(exhaust), visible=False))
+        plumes = [self._plume(f"{root}/plume_{i + 1}", t, 0.12, 0.8) for i, t in enumerate(thrusters)]
+        engine = getattr(self.sc, "main_engine", None)
+        self.engine_plume = None if engine is None else self._plume(f"{root}/engine_plume", engine, 0.3, 2.5)
         return plumes
 
+    def _plume(self, name: str, unit, radius: float, length: float):
+        exhaust = -np.asarray(unit.direction_B, float)   # the plume leaves opposite to the force
+        pos = np.asarray(unit.position_B_m, float) + 0.5 * length * exhaust
+        return self.server.scene.add_cylinder(name, radius=radius, height=length, color=PLUME, opacity=0.7,
+                                              position=tuple(pos), wxyz=quat_from_z(exhaust), visible=False)
+
     def _build_cgt(self, root: str):
-        """The guide telescopes' field of view, if the spacecraft file describes them."""
-        for name in ("guide_telescopes", "cgts", "cgt"):
-            cgt = getattr(self.sc, name, None)
-            if cgt is None:
-                continue
-            units = getattr(cgt, "units", None) or (cgt if isinstance(cgt, list) else [cgt])
-            half = getattr(units[0], "fov_half_angle_deg", None)
-            axis = getattr(units[0], "boresight_B", (1.0, 0.0, 0.0))
-            if half is None:
-                return None
-            length = 6.0
-            radius = length * np.tan(np.radians(half))
-            pos = 0.5 * length * np.asarray(axis, float)
-            return self.server.scene.add_cylinder(f"{root}/cgt_fov", radius=radius, height=length,
-                                                  color=(255, 255, 150), opacity=0.15, position=tuple(pos),
-                                                  wxyz=quat_from_z(axis))
-        return None
+        """The guide telescopes' field of view (as a cone around the first
+        unit's boresight), when the spacecraft file describes them."""
+        sensors = getattr(self.sc, "sensors", None)
+        gts = getattr(sensors, "guide_telescopes", None) or getattr(self.sc, "guide_telescopes", None)
+        half = getattr(gts, "fov_half_angle_deg", None)
+        units = getattr(gts, "units", None)
+        if half is None or not units:
+            return None
+        q_BG = getattr(units[0], "q_BG", (1.0, 0.0, 0.0, 0.0))
+        axis = quat_rotate(q_BG, (1.0, 0.0, 0.0))          # a telescope's boresight is its +X
+        length = 6.0
+        pos = 2.5 * axis + 0.5 * length * axis               # from the front of the instrument module
+        return self.server.scene.add_cylinder(f"{root}/cgt_fov", radius=length * np.tan(np.radians(half)),
+                                              height=length, color=(255, 255, 150), opacity=0.2,
+                                              position=tuple(pos), wxyz=quat_from_z(axis), visible=False)
 
     # -- updates ------------------------------------------------------------------------
     def update(self, frame: dict) -> None:
@@ -152,8 +152,10 @@ class SpacecraftScene:
                 label.text = f"W{i + 1} {rpm:+.0f} rpm"
         for i, plume in enumerate(self.plumes):
             plume.visible = bool(frame.get(f"thr_pulses_{i + 1}", 0) > 0)
-        if self.cgt is not None:
-            self.cgt.visible = bool(frame.get("cgt_valid", 0) or frame.get("cgt_selected", 0))
+        if self.engine_plume is not None:
+            self.engine_plume.visible = bool(frame.get("engine_on", 0) > 0)
+        if self.cgt is not None:   # shown while a guide telescope sees the Sun
+            self.cgt.visible = any(frame.get(f"gt_valid_{i}", 0) > 0 for i in range(1, 5))
 
     def _update_sun(self, frame: dict, q_BN) -> None:
         sun = vec(frame, "sun_N")

@@ -4,12 +4,11 @@ from __future__ import annotations
 
 import json
 
-from fastapi import APIRouter, Depends, HTTPException, Query, status
+from fastapi import APIRouter, HTTPException, Query, status
 from starlette.concurrency import run_in_threadpool
 
-from server.api.deps import get_reader, get_service, require_operator
+from server.api.deps import Operator, Reader, Service
 from server.api.models import CommandRequest, CommandView
-from server.service import SimService
 
 router = APIRouter(prefix="/api/commands", tags=["commands"])
 
@@ -18,8 +17,8 @@ router = APIRouter(prefix="/api/commands", tags=["commands"])
              responses={401: {"description": "no operator token"}, 403: {"description": "wrong operator token"},
                         409: {"description": "the run has ended"},
                         428: {"description": "hazardous command sent without confirm: true"}})
-async def submit_command(req: CommandRequest, who: str = Depends(require_operator),
-                         service: SimService = Depends(get_service)):
+async def submit_command(req: CommandRequest, who: Operator,
+                         service: Service):
     """Queue a command. It is checked by the flight software at the next control
     cycle (or at its time tag): follow its lifecycle in the answer's `stages`,
     at GET /api/commands/{id} or on the WebSocket /api/commands/stream."""
@@ -33,8 +32,8 @@ async def submit_command(req: CommandRequest, who: str = Depends(require_operato
 
 
 @router.get("", response_model=list[CommandView])
-async def command_history(run_id: int | None = Query(None, description="a past run; the live run when absent"),
-                          service: SimService = Depends(get_service), archive=Depends(get_reader)):
+async def command_history(service: Service, archive: Reader,
+                          run_id: int | None = Query(None, description="a past run; the live run when absent")):
     """Every command of a run: who sent it, when, its arguments and the time of each stage."""
     if run_id is None or run_id == service.run.run_id:
         return service.run.commands()
@@ -42,7 +41,7 @@ async def command_history(run_id: int | None = Query(None, description="a past r
 
 
 @router.get("/{cmd_id}", response_model=CommandView)
-async def command(cmd_id: int, service: SimService = Depends(get_service)):
+async def command(cmd_id: int, service: Service):
     snap = service.run.command(cmd_id)
     if snap is None:
         raise HTTPException(status.HTTP_404_NOT_FOUND, f"no command {cmd_id} in the live run")

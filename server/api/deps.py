@@ -6,6 +6,7 @@ import secrets
 import sqlite3
 import threading
 from pathlib import Path
+from typing import Annotated
 
 from fastapi import Depends, HTTPException, Request, status
 from fastapi.security import HTTPAuthorizationCredentials, HTTPBearer
@@ -21,7 +22,7 @@ def get_service(request: Request) -> SimService:
 
 
 def require_operator(request: Request,
-                     creds: HTTPAuthorizationCredentials | None = Depends(_bearer)) -> str:
+                     creds: Annotated[HTTPAuthorizationCredentials | None, Depends(_bearer)]) -> str:
     """Anything that commands needs the operator token; viewing does not.
     401 when no token was sent, 403 when it is wrong (RFC 6750 / RFC 9110)."""
     if creds is None or creds.scheme.lower() != "bearer":
@@ -52,5 +53,11 @@ def reader(path: Path) -> Archive:
     return archive
 
 
-def get_reader(service: SimService = Depends(get_service)) -> Archive:
+def get_reader(service: Annotated[SimService, Depends(get_service)]) -> Archive:
     return reader(service.archive_path)
+
+
+# FastAPI's Annotated dependencies: the routes' parameters
+Service = Annotated[SimService, Depends(get_service)]
+Operator = Annotated[str, Depends(require_operator)]
+Reader = Annotated[Archive, Depends(get_reader)]

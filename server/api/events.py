@@ -5,10 +5,10 @@ from __future__ import annotations
 import asyncio
 from typing import Literal
 
-from fastapi import APIRouter, Depends, HTTPException, Query, WebSocket, WebSocketDisconnect, status
+from fastapi import APIRouter, HTTPException, Query, WebSocket, WebSocketDisconnect, status
 from starlette.concurrency import run_in_threadpool
 
-from server.api.deps import get_reader, get_service, require_operator
+from server.api.deps import Operator, Reader, Service
 from server.api.models import AckRequest
 from server.hub import Feed
 from server.service import SimService
@@ -19,11 +19,11 @@ _RANK = {"info": 0, "warning": 1, "error": 2}
 
 
 @router.get("/events")
-async def events(run_id: int | None = Query(None, description="a past run; the live run when absent"),
+async def events(service: Service, archive: Reader,
+                 run_id: int | None = Query(None, description="a past run; the live run when absent"),
                  severity: Severity = Query("info", description="this severity and worse"),
                  since_s: float = Query(float("-inf"), description="sim s"),
-                 limit: int = Query(500, ge=1, le=100_000),
-                 service: SimService = Depends(get_service), archive=Depends(get_reader)) -> list[dict]:
+                 limit: int = Query(500, ge=1, le=100_000)) -> list[dict]:
     """Events, oldest first: severity, source, kind, sim time t_s and UTC (ISO 8601).
     The live run answers from memory (its last 2000 events); past runs from the archive."""
     if run_id is None or run_id == service.run.run_id:
@@ -37,20 +37,19 @@ async def events(run_id: int | None = Query(None, description="a past run; the l
 
 
 @router.get("/limits")
-async def limits(service: SimService = Depends(get_service)) -> list[dict]:
+async def limits(service: Service) -> list[dict]:
     """Each limited channel: its yellow and red bands (on |value|), unit, source, current level."""
     return service.run.limits.table()
 
 
 @router.get("/alarms")
-async def alarms(service: SimService = Depends(get_service)) -> list[dict]:
+async def alarms(service: Service) -> list[dict]:
     """Alarms raised by limit violations: they stay until acknowledged, even after the value returns."""
     return service.run.limits.alarms()
 
 
 @router.post("/alarms/{alarm_id}/ack", responses={404: {"description": "no such alarm"}})
-async def acknowledge(alarm_id: int, body: AckRequest | None = None, who: str = Depends(require_operator),
-                      service: SimService = Depends(get_service)) -> dict:
+async def acknowledge(alarm_id: int, who: Operator, service: Service, body: AckRequest | None = None) -> dict:
     operator = body.operator if body else "operator"
     found = await run_in_threadpool(service.acknowledge, alarm_id, f"{who}:{operator}")
     if found is None:

@@ -7,22 +7,22 @@ import io
 import json
 from pathlib import Path
 
-from fastapi import APIRouter, Depends, HTTPException, Query, Request, status
+from fastapi import APIRouter, HTTPException, Query, Request, status
 from fastapi.responses import Response
 from starlette.concurrency import run_in_threadpool
 
 from server.api.commands import archived_commands
-from server.api.deps import get_reader, get_service, require_operator
+from server.api.deps import Operator, Reader, Service
 from server.api.models import PacingRequest, PacingView, RunInfo, RunRequest, StepRequest
 from server.api.telemetry import split_fields
-from server.service import SimService, load_live_scenario
+from server.service import load_live_scenario
 from sim.scenario import ScenarioError
 
 router = APIRouter(prefix="/api", tags=["runs and pacing"])
 
 
 @router.get("/runs")
-async def runs(service: SimService = Depends(get_service), archive=Depends(get_reader)) -> dict:
+async def runs(service: Service, archive: Reader) -> dict:
     """Every run in the archive (this and earlier service sessions) and which one is live."""
     return {"live": service.run.info(), "runs": await run_in_threadpool(archive.runs)}
 
@@ -34,8 +34,8 @@ async def scenarios(request: Request) -> list[str]:
 
 
 @router.post("/runs", status_code=status.HTTP_201_CREATED, response_model=RunInfo)
-async def load_run(req: RunRequest, request: Request, who: str = Depends(require_operator),
-                   service: SimService = Depends(get_service)):
+async def load_run(req: RunRequest, request: Request, who: Operator,
+                   service: Service):
     """Stop the live run (archived as 'stopped') and start another scenario in its place."""
     path = Path(request.app.state.scenario_dir) / f"{req.scenario}.yaml"
     if not path.is_file():
@@ -52,30 +52,29 @@ async def load_run(req: RunRequest, request: Request, who: str = Depends(require
 
 
 @router.get("/pacing", response_model=PacingView)
-async def pacing(service: SimService = Depends(get_service)):
+async def pacing(service: Service):
     return service.status()
 
 
 @router.post("/pacing", response_model=PacingView)
-async def set_warp(req: PacingRequest, who: str = Depends(require_operator), service: SimService = Depends(get_service)):
+async def set_warp(req: PacingRequest, who: Operator, service: Service):
     """Set the warp: sim time runs at real time x warp (0 pauses)."""
     return await run_in_threadpool(service.set_warp, req.warp, who)
 
 
 @router.post("/pacing/pause", response_model=PacingView)
-async def pause(who: str = Depends(require_operator), service: SimService = Depends(get_service)):
+async def pause(who: Operator, service: Service):
     return await run_in_threadpool(service.set_warp, 0, who)
 
 
 @router.post("/pacing/resume", response_model=PacingView)
-async def resume(who: str = Depends(require_operator), service: SimService = Depends(get_service)):
+async def resume(who: Operator, service: Service):
     """Resume at the warp in force before the pause."""
     return await run_in_threadpool(service.resume, who)
 
 
 @router.post("/pacing/step", response_model=PacingView, responses={409: {"description": "not paused"}})
-async def step(req: StepRequest | None = None, who: str = Depends(require_operator),
-               service: SimService = Depends(get_service)):
+async def step(who: Operator, service: Service, req: StepRequest | None = None):
     """Run whole control cycles while paused (one by default)."""
     try:
         return await run_in_threadpool(service.step, (req or StepRequest()).cycles, who)
@@ -97,11 +96,11 @@ def _csv_response(text: str, name: str) -> Response:
 
 @router.get("/export/{what}.csv", response_class=Response,
             responses={200: {"content": {"text/csv": {}}}, 404: {"description": "no such run or table"}})
-async def export(what: str, run_id: int | None = Query(None, description="the live run when absent"),
+async def export(what: str, service: Service, archive: Reader,
+                 run_id: int | None = Query(None, description="the live run when absent"),
                  start: float = Query(float("-inf"), description="sim s"),
                  end: float = Query(float("inf"), description="sim s"),
-                 fields: str = Query("", description="telemetry only: comma-separated fields (all when empty)"),
-                 service: SimService = Depends(get_service), archive=Depends(get_reader)):
+                 fields: str = Query("", description="telemetry only: comma-separated fields (all when empty)")):
     """CSV of a run's telemetry, commands (one row per lifecycle stage) or events, for a sim-time range."""
     run_id = service.run.run_id if run_id is None else run_id
     if run_id == service.run.run_id:

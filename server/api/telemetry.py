@@ -6,10 +6,10 @@ import asyncio
 import json
 import time
 
-from fastapi import APIRouter, Depends, HTTPException, Query, WebSocket, WebSocketDisconnect, status
+from fastapi import APIRouter, HTTPException, Query, WebSocket, WebSocketDisconnect, status
 from starlette.concurrency import run_in_threadpool
 
-from server.api.deps import get_reader, get_service
+from server.api.deps import Reader, Service
 from server.service import SimService
 
 router = APIRouter(prefix="/api/telemetry", tags=["telemetry"])
@@ -18,7 +18,7 @@ MAX_RATE_HZ = 50.0
 
 
 @router.get("/latest")
-async def latest(service: SimService = Depends(get_service)) -> dict:
+async def latest(service: Service) -> dict:
     """The newest live frame: every recorded field, plus lag_s, utc, run_id and warp."""
     frame = service.hub.latest
     if frame is None:
@@ -32,11 +32,11 @@ def split_fields(fields: str) -> list[str]:
 
 
 @router.get("")
-async def archived(fields: str = Query(..., description="comma-separated field names", examples=["att_err_arcsec"]),
+async def archived(service: Service, archive: Reader,
+                   fields: str = Query(..., description="comma-separated field names", examples=["att_err_arcsec"]),
                    start: float = Query(float("-inf"), description="sim s"),
                    end: float = Query(float("inf"), description="sim s"),
-                   run_id: int | None = Query(None, description="the live run when absent"),
-                   service: SimService = Depends(get_service), archive=Depends(get_reader)) -> dict:
+                   run_id: int | None = Query(None, description="the live run when absent")) -> dict:
     """Telemetry from the archive at the recorded rate, one list per field (t_s
     always included). Long ranges are thinned to at most 20000 rows; `stride`
     says by how much."""
