@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import signal
 import sys
 from pathlib import Path
 
@@ -84,6 +85,10 @@ def run_headless(scenario_path: str | Path, seed: int | None, out_dir: str | Pat
 
 
 def _cmd_run(args) -> int:
+    # `acs run ... | head`: when the reader leaves, end quietly as Unix tools do
+    # (killed by SIGPIPE) rather than with a traceback. Only here: the server must
+    # keep Python's default, or a client closing its socket would kill it.
+    signal.signal(signal.SIGPIPE, signal.SIG_DFL)
     out = args.out or Path("out") / Path(args.scenario).stem
     return run_headless(args.scenario, args.seed, out)
 
