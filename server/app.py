@@ -21,6 +21,7 @@ from sim.commands import COMMAND_TYPES
 
 log = logging.getLogger("acs.app")
 REPO = Path(__file__).resolve().parent.parent
+STARTUP_TIMEOUT_S = 900.0     # the first start on a machine compiles every kernel
 
 
 @dataclass
@@ -100,6 +101,13 @@ def create_app(config: ServeConfig) -> FastAPI:
         console = None
         service.start()
         try:
+            announce = getattr(app.state, "on_starting", None)
+            if announce is not None:
+                announce()
+            if not await asyncio.to_thread(service.ready.wait, STARTUP_TIMEOUT_S):
+                raise RuntimeError(f"the simulation did not start within {STARTUP_TIMEOUT_S:g} s")
+            if service.startup_error is not None:
+                raise RuntimeError(f"the simulation could not start: {service.startup_error}")
             if config.viser_port is not None:
                 from web.console import Console
 

@@ -56,7 +56,6 @@ class Hub:
         self.events = Feed()
         self._loop: asyncio.AbstractEventLoop | None = None
         self._changed: asyncio.Event | None = None
-        self._thread_changed = threading.Condition()
 
     # -- writer side (simulation thread) --------------------------------------
     def publish_frame(self, frame: dict) -> None:
@@ -84,8 +83,6 @@ class Hub:
                 loop.call_soon_threadsafe(self._set_changed)
             except RuntimeError:
                 pass  # the loop closed between the check and the call: nobody is waiting
-        with self._thread_changed:
-            self._thread_changed.notify_all()
 
     # -- reader side ------------------------------------------------------------
     def attach_loop(self, loop: asyncio.AbstractEventLoop) -> None:
@@ -104,8 +101,3 @@ class Hub:
             await asyncio.wait_for(ev.wait(), timeout)
         except TimeoutError:
             pass
-
-    def wait_change_thread(self, timeout: float) -> None:
-        """The same for a plain thread (the viser console)."""
-        with self._thread_changed:
-            self._thread_changed.wait(timeout)

@@ -54,6 +54,8 @@ def main(args) -> int:
             print(f"operator token:    {token}   (generated; set ACS_TOKEN to choose your own)", flush=True)
 
     app.state.on_ready = announce
+    app.state.on_starting = lambda: print("starting the simulation (the first start on a machine compiles its "
+                                          "kernels: about a minute)...", flush=True)
     uvicorn.run(app, host=args.host, port=args.port, log_level="warning" if args.quiet else "info")
     return 0
 

@@ -60,6 +60,8 @@ class SimService:
         self.run = LiveRun(scenario, sc, seed, self.archive, self.hub, keep_frames)
         self._inbox: queue.Queue[_Request] = queue.Queue()
         self._stop = threading.Event()
+        self.ready = threading.Event()     # set once the first cycle ran (kernels compiled)
+        self.startup_error: Exception | None = None
         self._thread: threading.Thread | None = None
         self._slice_cycles = 50
         self._last_publish = 0.0
@@ -137,6 +139,13 @@ class SimService:
 
     # -- the simulation thread ------------------------------------------------------------
     def _main(self) -> None:
+        try:
+            self._warm_up()
+        except Exception as err:   # reported to whoever waits for `ready`
+            log.exception("the simulation could not start")
+            self.startup_error = err
+            self.ready.set()
+            return
         while not self._stop.is_set():
             try:
                 wait = self._tick()
@@ -147,6 +156,15 @@ class SimService:
                 wait = IDLE_WAIT_S
             self._drain(wait)
             self.archive.maybe_commit()
+
+    def _warm_up(self) -> None:
+        """One cycle before pacing starts: the first call compiles the kernels
+        (a minute on a fresh machine), which must not count as lag."""
+        runner = self.run.runner
+        self.run.advance_to(runner.cycle + 1)
+        self.pacer.reanchor(runner.t_s)
+        self._publish(force=True)
+        self.ready.set()
 
     def _drain(self, wait: float) -> None:
         try:
