@@ -24,8 +24,9 @@ import pytest
 from fastapi.testclient import TestClient
 
 from server.app import ServeConfig, api_surface, create_app
-from sim.commands import ResetIntegrator
+from sim.commands import COMMAND_TYPES, ResetIntegrator
 from sim.modes import Mode
+from web.forms import build_command, field_specs, initial_value
 
 TOKEN = "test-operator-token"
 AUTH = {"Authorization": f"Bearer {TOKEN}"}
@@ -101,7 +102,8 @@ def test_token_is_not_in_archive_or_answers(client):
     client.get("/api/pacing")
     svc = client.app.state.service
     svc.flush_archive()
-    assert TOKEN.encode() not in svc.archive_path.read_bytes()
+    for path in (svc.archive_path, svc.archive_path.with_name(svc.archive_path.name + "-wal")):
+        assert not path.exists() or TOKEN.encode() not in path.read_bytes()
     assert TOKEN not in json.dumps(client.get("/api/events").json())
     assert TOKEN not in client.get("/api/export/commands.csv").text
 
@@ -129,6 +131,29 @@ def test_not_json_and_bad_warp_are_422(client):
     assert r.status_code == 422
     r = client.post("/api/pacing", json={"warp": 7}, headers=AUTH)
     assert r.status_code == 422 and r.json()["detail"][0]["field"] == "warp"
+
+
+def _example(model) -> dict | None:
+    """A valid body for a command model, from its generated form; None if it needs typing."""
+    specs = field_specs(model)
+    try:
+        return build_command(model.model_fields["type"].default, specs,
+                             [initial_value(s) for s in specs]).model_dump(mode="json")
+    except ValueError:
+        return None
+
+
+@pytest.mark.parametrize("type_name", [t for t, m in COMMAND_TYPES.items() if m.hazardous] or ["none yet"])
+def test_every_hazardous_command_is_refused_without_confirm(client, type_name):
+    if type_name == "none yet":
+        pytest.skip("no hazardous command in the engine yet")
+    body = _example(COMMAND_TYPES[type_name])
+    if body is None:
+        pytest.skip(f"{type_name} has no form defaults to send")
+    before = len(client.get("/api/commands").json())
+    r = post_command(client, body)
+    assert r.status_code == 428 and "confirm" in r.json()["detail"]
+    assert len(client.get("/api/commands").json()) == before      # nothing was queued
 
 
 def test_hazardous_command_needs_confirm(client, monkeypatch):
