@@ -63,7 +63,8 @@ class PacingView(BaseModel):
     run_id: int
     finished: bool
     realtime_ratio: float = Field(description="sim s per wall s achieved over the last ~2 s")
-    capacity_ratio: float = Field(description="sim s per wall s while stepping: what max warp can reach")
+    capacity_ratio: float = Field(description="sim s per wall s while stepping long slices: what max warp can "
+                                              "reach (0 until measured at a high warp)")
 
 
 class RunRequest(Strict):
