@@ -94,6 +94,9 @@ class Console:
 
     def _update(self, panels: bool) -> None:
         hub, frame = self.service.hub, self.service.hub.latest
+        self.mode_history.update(frame)
+        if not self.server.get_clients():
+            return   # nobody watching: leave the CPU to the simulation
         if frame is not None:
             if frame["run_id"] != self._run_id:
                 self._run_id = frame["run_id"]
@@ -102,7 +105,6 @@ class Console:
         if not panels:
             return
         run = self.service.run
-        self.mode_history.update(frame)
         self._set("status", self.status_md, status_markdown(frame, self.service.status(), run.info()))
         self._set("commands", self.commands_md, commands_markdown(run.commands()))
         self._set("events", self.events_md, events_markdown(hub.events.tail(12)))
