@@ -15,7 +15,6 @@ import numpy as np
 from numba import njit
 
 from sim.attitude import ARCSEC_PER_RAD, quat_conj, quat_mul, quat_rotate, quat_rotate_inv, rotation_angle
-from sim.fsw.cycle import F_INTEGRATOR_ACTIVE
 from sim.modes import Mode
 from sim.truth import mass as massmod
 from sim.truth.dynamics import loads
@@ -60,7 +59,8 @@ def field_names(n_wheels: int = 4, n_thrusters: int = 8, n_star_trackers: int = 
         ["h_total_Nms", "est_err_arcsec"] + _vec("q_est_BN", axes=WXYZ) + _vec("q_RN", axes=WXYZ)
         + _vec("theta_e_B", "_arcsec") + _vec("iru_rate_B", "_rad_s")
         + _vec("torque_cmd_B", "_Nm") + _vec("torque_undelivered_B", "_Nm")
-        + ["integrator_active"] + _vec("integral_B", "_rad_s")
+        + ["integrator_active"] + _vec("integrator_active") + _vec("integral_B", "_rad_s")
+        + _vec("torque_int_B", "_Nm")
         + _numbered("wheel_speed", "_rpm", n_wheels) + _numbered("wheel_cmd", "_Nm", n_wheels)
         + _vec("sun_B") + ["sun_angle_deg", "eclipse_lit_fraction"]
         + _vec("torque_srp_B", "_Nm") + _vec("torque_gg_B", "_Nm") + _vec("torque_engine_B", "_Nm")
@@ -111,7 +111,8 @@ def _numbers(t_s, ts, tp, s, rec, act):
                   np.sqrt(np.sum(h_total_N * h_total_N)),
                   rotation_angle(quat_mul(quat_conj(s.q_est_BN), q_BN)) * ARCSEC_PER_RAD]),
         s.q_est_BN, s.q_RN, s.theta_e * ARCSEC_PER_RAD, s.rate_B, s.torque_cmd_B, s.torque_undelivered_B,
-        s.flags[F_INTEGRATOR_ACTIVE:F_INTEGRATOR_ACTIVE + 1], s.integral,
+        np.array([1.0 if s.int_active.all() else 0.0]), s.int_active.astype(np.float64), s.integral,
+        s.torque_int_B,
         wheel_speeds_rad_s(h, omega, w.axes_B, w.spin_inertia) * RPM_PER_RAD_S, act.wheel_torque_Nm,
         sun_B, np.array([np.degrees(np.arccos(min(max(sun_B[0], -1.0), 1.0))), ts.inputs.lit_fraction[0]]),
         ld.torque_srp_B, ld.torque_gg_B, ld.torque_engine_B, ld.torque_thrusters_B,

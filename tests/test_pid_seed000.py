@@ -34,7 +34,7 @@ def _box_torque(pid, theta_lim, omega_lim):
     flight software's own control law (integral zero)."""
     theta = np.full(3, theta_lim)
     omega = np.full(3, omega_lim)
-    torque, _ = pid_torque(theta, omega, np.zeros(3), pid._replace(ki=0.0))
+    torque, _ = pid_torque(theta, omega, np.zeros(3), np.zeros(3, dtype=bool), 1.0, pid._replace(ki=0.0))
     return torque
 
 
@@ -63,11 +63,14 @@ def test_box_holds_integrator_outside_and_integrates_inside(pid):
     integral = np.array([1e-3, -2e-3, 5e-4])
     before = integral.copy()
     # outside the box on one axis only: seed 001 "Inertial mode", "for any axis": input zeroed, value held
-    _, active = pid_torque(np.array([2e-3, 0.0, 0.0]), np.zeros(3), integral, pid)
-    assert not active and np.array_equal(integral, before)
+    active = np.ones(3, dtype=bool)
+    _, t_int = pid_torque(np.array([2e-3, 0.0, 0.0]), np.zeros(3), integral, active, 1.0, pid)
+    assert not active.any() and np.array_equal(integral, before)
+    # hold (flown): the held integral torque still acts, K_i times the integral
+    assert t_int == pytest.approx(pid.ki * pid.inertia_B @ before, abs=1e-15)
     theta = np.array([1e-4, -1e-4, 2e-4])
-    _, active = pid_torque(theta, np.zeros(3), integral, pid)
-    assert active
+    pid_torque(theta, np.zeros(3), integral, active, 1.0, pid)
+    assert active.all()
     # rectangle-rule integration over one control cycle (0.2 s, seed 001 "DeltaV")
     assert integral == pytest.approx(before + theta * 0.2, abs=1e-15)
 
@@ -75,7 +78,7 @@ def test_box_holds_integrator_outside_and_integrates_inside(pid):
 def test_integrator_limit_0p01_rad_s(pid):
     # seed 000 eq. (9) text: "The integrator saturation limit is 0.01 rad-sec"
     integral = np.array([0.00999, -0.00999, 0.0])
-    pid_torque(np.array([1e-3, -1e-3, 0.0]), np.zeros(3), integral, pid)
+    pid_torque(np.array([1e-3, -1e-3, 0.0]), np.zeros(3), integral, np.ones(3, dtype=bool), 1.0, pid)
     assert integral[:2] == pytest.approx([0.01, -0.01], abs=1e-15)
 
 
@@ -90,5 +93,60 @@ def test_attitude_limiter_keeps_direction():
 
 def test_rate_term_damps(pid):
     # seed 001 eq. (2)-(3): omega_e = -omega, so a positive body rate gets a negative torque
-    torque, _ = pid_torque(np.zeros(3), -np.array([1e-3, 1e-3, 1e-3]), np.zeros(3), pid)
+    torque, _ = pid_torque(np.zeros(3), -np.array([1e-3, 1e-3, 1e-3]), np.zeros(3), np.zeros(3, dtype=bool), 1.0,
+                           pid)
     assert np.all(torque < 0)
+
+
+# -- the other options of seed 000's trade study ----------------------------------
+def _run(pid, theta, omega, integral, active, k_t=1.0):
+    return pid_torque(np.asarray(theta, float), np.asarray(omega, float), integral, active, k_t, pid)
+
+
+def test_option1_routh_threshold_on_torque_scaling(pid):
+    """Seed 000 eq. (1): k_i < k_p k_d k_t. With the seed's gains the integral
+    must go when the delivered fraction k_t drops below k_i / (k_p k_d) = 0.1527."""
+    p = pid._replace(box_option=1)
+    threshold = 0.005129 / (0.07192 * 0.467055)  # seed 000 "Option one" gains
+    assert threshold == pytest.approx(0.1527, abs=1e-4)
+    small = [1e-5, 0, 0]
+    on = np.zeros(3, dtype=bool)
+    _run(p, small, [0, 0, 0], np.zeros(3), on, k_t=threshold * 1.01)
+    assert on.all()
+    _run(p, small, [0, 0, 0], np.zeros(3), on, k_t=threshold * 0.99)
+    assert not on.any()
+
+
+def test_option2_pd_torque_against_saturation(pid):
+    """Seed 000 "Option two": integral only while the PD torque is below
+    tau_sat = 0.25 N m and the attitude is not limited."""
+    p = pid._replace(box_option=2)
+    on = np.zeros(3, dtype=bool)
+    # Y: K_p,y theta = 285 N m/rad * 8e-4 rad = 0.228 N m < 0.25
+    _run(p, [0, 8e-4, 0], [0, 0, 0], np.zeros(3), on)
+    assert on.all()
+    # 285 * 9e-4 = 0.257 N m > 0.25
+    _run(p, [0, 9e-4, 0], [0, 0, 0], np.zeros(3), on)
+    assert not on.any()
+
+
+def test_zero_method_keeps_integrating_without_the_torque(pid):
+    p = pid._replace(disable_method=1)
+    integral = np.array([1e-3, 0, 0])
+    on = np.ones(3, dtype=bool)
+    theta = [2e-3, 0, 0]  # outside the 1.212e-3 rad box
+    _, t_int = _run(p, theta, [0, 0, 0], integral, on)
+    assert not on.any() and not t_int.any()
+    assert integral[0] == pytest.approx(1e-3 + 2e-3 * 0.2, abs=1e-15)
+
+
+def test_zero_reset_method_restarts_the_integrator_on_re_entry(pid):
+    p = pid._replace(disable_method=2)
+    integral = np.array([5e-3, -5e-3, 1e-3])
+    on = np.ones(3, dtype=bool)
+    _, t_int = _run(p, [2e-3, 0, 0], [0, 0, 0], integral, on)
+    assert not t_int.any() and integral[0] == 5e-3  # zeroed torque, held value
+    theta = np.array([1e-4, 0, 0])
+    _, t_int = _run(p, theta, [0, 0, 0], integral, on)
+    assert on.all()
+    assert integral == pytest.approx(theta * 0.2, abs=1e-15)  # reset, then one cycle's worth

@@ -12,6 +12,7 @@ from numba import njit
 from sim.attitude import error_quat, small_angle_error
 from sim.fsw.distribution import distribute
 from sim.fsw.estimation import estimate_attitude
+from sim.fsw.integral_enable import inside_box
 from sim.fsw.pid import PidParams, pid_torque
 from sim.fsw.rate_selection import least_squares_rate
 from sim.modes import Mode
@@ -22,8 +23,8 @@ EVENT_NONE = 0
 EVENT_SLEW_SETTLED = 1
 
 # flags[] slots
-F_INTEGRATOR_ACTIVE, F_WATCH_SLEW = 0, 1
-N_FLAGS = 2
+F_WATCH_SLEW = 0
+N_FLAGS = 1
 
 
 class FswParams(NamedTuple):
@@ -48,7 +49,19 @@ class FswState(NamedTuple):
     torque_undelivered_B: np.ndarray  # (3,) N m withheld by the scaling
     flags: np.ndarray                # (N_FLAGS,) float
     rate_B: np.ndarray               # (3,) body rate from the IRU channels in use, rad/s
+    int_active: np.ndarray           # (3,) bool: the integral torque acts on this axis
+    torque_int_B: np.ndarray         # (3,) N m, the integral torque in torque_cmd_B
     iru_ch_use: np.ndarray           # (6,) bool: channels rate selection may use (FDC clears failed ones)
+
+
+@njit(cache=True)
+def torque_scale(s):
+    """Delivered over desired torque of the last cycle, k_t of seed 000 eq. (1)
+    (the distribution scales the whole vector, so one number says it)."""
+    cmd = np.sqrt(np.sum(s.torque_cmd_B * s.torque_cmd_B))
+    if cmd == 0.0:
+        return 1.0
+    return 1.0 - np.sqrt(np.sum(s.torque_undelivered_B * s.torque_undelivered_B)) / cmd
 
 
 @njit(cache=True, inline="always")
@@ -56,10 +69,11 @@ def inertial_law(rate_B, s, p):
     """Seed 001 eq. (1)-(3): errors against the target and the PID torque."""
     s.theta_e[:] = small_angle_error(error_quat(s.q_RN, s.q_est_BN))
     s.omega_e[:] = -rate_B
-    torque, active = pid_torque(s.theta_e, s.omega_e, s.integral, p.pid)
+    torque, torque_int = pid_torque(s.theta_e, s.omega_e, s.integral, s.int_active, torque_scale(s), p.pid)
     s.torque_cmd_B[:] = torque
-    s.flags[F_INTEGRATOR_ACTIVE] = 1.0 if active else 0.0
-    if active and s.flags[F_WATCH_SLEW] > 0.0:
+    s.torque_int_B[:] = torque_int
+    settled = inside_box(s.theta_e, s.omega_e, p.pid, np.zeros(3))
+    if settled and s.flags[F_WATCH_SLEW] > 0.0:
         s.flags[F_WATCH_SLEW] = 0.0
         return EVENT_SLEW_SETTLED
     return EVENT_NONE

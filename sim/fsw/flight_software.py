@@ -14,7 +14,7 @@ from sim.commands import CommandBase, ResetIntegrator, SetTargetQuaternion
 from sim.fsw import cycle
 from sim.fsw.distribution import distribution_matrix
 from sim.fsw.estimation import SOURCE_IRU, SOURCE_STAR_TRACKER
-from sim.fsw.pid import PidParams
+from sim.fsw.pid import DISABLE_METHODS, PidParams
 from sim.modes import Mode
 from sim.spacecraft.definition import Spacecraft
 
@@ -31,7 +31,8 @@ def make_fsw_params(sc: Spacecraft) -> cycle.FswParams:
     g = sc.fsw.inertial
     pid = PidParams(np.array(sc.inertia_B_kgm2, float), g.kp_per_s2, g.kd_per_s, g.ki_per_s3,
                     g.integrator_limit_rad_s, g.box_theta_lim_rad, g.box_omega_lim_rad_s,
-                    g.attitude_limit_rad, sc.timing.control_dt_s)
+                    g.attitude_limit_rad, sc.timing.control_dt_s, g.box_option, g.box_per_axis,
+                    DISABLE_METHODS[g.disable], g.torque_sat_Nm)
     source = SOURCE_STAR_TRACKER if sc.fsw.attitude_source == "star_tracker" else SOURCE_IRU
     k = sc.fsw.star_tracker
     return cycle.FswParams(pid, distribution_matrix(sc.wheels.axes_B), sc.wheels.torque_limit_sw_Nm, source, k,
@@ -40,9 +41,11 @@ def make_fsw_params(sc: Spacecraft) -> cycle.FswParams:
 
 
 def make_fsw_state(mode: Mode, q_est_BN, q_RN) -> cycle.FswState:
-    return cycle.FswState(np.array([int(mode)], np.int64), np.array(q_est_BN, float), np.array(q_RN, float),
-                          np.zeros(3), np.zeros(3), np.zeros(3), np.zeros(3), np.zeros(3), np.zeros(cycle.N_FLAGS),
-                          np.zeros(3), np.ones(6, dtype=np.bool_))
+    return cycle.FswState(
+        mode=np.array([int(mode)], np.int64), q_est_BN=np.array(q_est_BN, float), q_RN=np.array(q_RN, float),
+        integral=np.zeros(3), theta_e=np.zeros(3), omega_e=np.zeros(3), torque_cmd_B=np.zeros(3),
+        torque_undelivered_B=np.zeros(3), flags=np.zeros(cycle.N_FLAGS), rate_B=np.zeros(3),
+        int_active=np.zeros(3, dtype=np.bool_), torque_int_B=np.zeros(3), iru_ch_use=np.ones(6, dtype=np.bool_))
 
 
 class FlightSoftware:

@@ -1,13 +1,16 @@
-"""Inertial-mode PID, seed 001 eq. (3), with the seed 000 integral torque box.
+"""Inertial- and Science-mode PID, seed 001 eq. (3), with the integral
+torque logic of seed 000.
 
     T = I (k_d omega_e + k_p theta_e + k_i int(theta_e))
 
 * theta_e is magnitude-limited (the attitude limiter, seed 001 "Attitude
   control modes": overshoot suppression); scaling the vector, not clipping
   components, keeps the eigenaxis of the slew.
-* The integral torque box, seed 000 option 3 as flown: while |theta_e| or
-  |omega_e| exceeds its limit on any axis (seed 001 "Inertial mode"), the
-  integrator input is zeroed so the integral torque is held.
+* When the integral may act: sim/fsw/integral_enable.py (options 1-3).
+* How it is disabled (seed 000 "Integral torque reset analysis"):
+  HOLD (flown): zero the integrator input, the integral torque is held;
+  ZERO: zero the integral torque but keep integrating;
+  ZERO_RESET: zero the integral torque and reset the integrator on re-entry.
 * The integrator is limited per axis (seed 000: 0.01 rad s).
 """
 from typing import NamedTuple
@@ -15,7 +18,11 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from sim.fsw.integral_enable import integral_enabled
 from sim.linalg import matvec
+
+HOLD, ZERO, ZERO_RESET = 0, 1, 2
+DISABLE_METHODS = {"hold": HOLD, "zero": ZERO, "zero_reset": ZERO_RESET}
 
 
 class PidParams(NamedTuple):
@@ -28,6 +35,10 @@ class PidParams(NamedTuple):
     box_omega_lim: float
     attitude_limit: float
     dt: float
+    box_option: int         # integral_enable.ROUTH | PD_SATURATION | BOX
+    box_per_axis: bool
+    disable_method: int     # HOLD | ZERO | ZERO_RESET
+    torque_sat: float       # actuator saturation torque for option 2, N m
 
 
 @njit(cache=True)
@@ -38,22 +49,24 @@ def limit_attitude(theta_e, limit):
     return theta_e.copy()
 
 
-@njit(cache=True)
-def in_integral_box(theta_e, omega_e, theta_lim, omega_lim):
-    for i in range(3):
-        if abs(theta_e[i]) > theta_lim or abs(omega_e[i]) > omega_lim:
-            return False
-    return True
-
-
 @njit(cache=True, inline="always")
-def pid_torque(theta_e, omega_e, integral, p):
-    """Commanded body torque (N m); updates `integral` in place. Returns the
-    torque and whether the integrator ran this cycle."""
+def pid_torque(theta_e, omega_e, integral, active, k_t, p):
+    """Commanded body torque (N m) and the integral torque in it (N m).
+    Updates `integral` and `active` (3,) in place; active holds, per axis,
+    whether the integral torque acts (on entry: whether it acted last cycle).
+    k_t: delivered over desired torque of the last cycle (option 1)."""
     theta = limit_attitude(theta_e, p.attitude_limit)
-    active = in_integral_box(theta_e, omega_e, p.box_theta_lim, p.box_omega_lim)
-    if active:
-        for i in range(3):
+    pd = matvec(p.inertia_B, p.kd * omega_e + p.kp * theta)
+    was = active.copy()
+    integral_enabled(theta_e, omega_e, theta, pd, k_t, p, active)
+    use = np.zeros(3)
+    for i in range(3):
+        on = active[i]
+        if p.disable_method == ZERO_RESET and on and not was[i]:
+            integral[i] = 0.0
+        if on or p.disable_method == ZERO:
             integral[i] = min(max(integral[i] + theta[i] * p.dt, -p.integrator_limit), p.integrator_limit)
-    torque = matvec(p.inertia_B, p.kd * omega_e + p.kp * theta + p.ki * integral)
-    return torque, active
+        if on or p.disable_method == HOLD:
+            use[i] = integral[i]
+    torque_int = matvec(p.inertia_B, p.ki * use)
+    return pd + torque_int, torque_int

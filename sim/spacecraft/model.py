@@ -100,6 +100,12 @@ class InertialControl(Strict):
     box_theta_lim_rad: Positive = Field(description="integral torque box attitude limit, per axis")
     box_omega_lim_rad_s: Positive = Field(description="integral torque box rate limit, per axis")
     attitude_limit_rad: Positive = Field(description="magnitude limit of theta_e (overshoot suppression)")
+    box_option: Literal[1, 2, 3] = Field(
+        3, description="when the integral acts: 1 Routh criterion, 2 PD torque/attitude saturation, 3 the box")
+    box_per_axis: bool = Field(False, description="option 3 per axis (else any axis outside disables all)")
+    disable: Literal["hold", "zero", "zero_reset"] = Field(
+        "hold", description="how: hold the integral torque, zero it, or zero it and reset on re-entry")
+    torque_sat_Nm: Positive = Field(0.25, description="actuator saturation torque, option 2")
 
 
 class Fsw(Strict):
