@@ -55,7 +55,8 @@ class LiveRun(Listener):
         self.run_id = self.recorder.run_id
         # Listeners are called in order: this object first, so the snapshot
         # exists before the archive and the feeds are told.
-        self.runner = Runner(scenario, sc, seed, listeners=[self, self.recorder])
+        # A live run of a year cannot keep every frame in memory; the archive has them.
+        self.runner = Runner(scenario, sc, seed, listeners=[self, self.recorder], keep_frames=keep_frames)
         self.seed = self.runner.seed
         self.fields = fields + [LAG_FIELD]
         numeric = self.runner.layout.numeric_fields
@@ -103,10 +104,6 @@ class LiveRun(Listener):
     # -- stepping (simulation thread) --------------------------------------------
     def advance_to(self, cycle: int) -> None:
         self.runner.advance_to(cycle)
-        if not self.keep_frames:
-            # The Runner keeps every frame for end-of-run expectations; a live
-            # run of a year cannot, and has the archive instead.
-            self.runner._frames.clear()
         if self.runner.cycle >= self.runner.end_cycle and not self.finished:
             self.finish_at_end()
 

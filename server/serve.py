@@ -60,9 +60,11 @@ def main(args) -> int:
     return 0
 
 
-def add_arguments(s) -> None:
-    from server.app import REPO
+REPO = Path(__file__).resolve().parent.parent
 
+
+def add_arguments(s) -> None:
+    # no import of the console stack here: `acs run` builds this parser too
     s.add_argument("--scenario", default=str(REPO / "scenarios" / "live_sdo.yaml"),
                    help="scenario to run live (extended to a year of sim time)")
     s.add_argument("--host", default="127.0.0.1", help="address to bind (default: this machine only)")
