@@ -30,7 +30,7 @@ CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networki
 TOKEN = "browser-test-token"
 SLEW_Q = [0.9961946980917455, 0.023293352046538898, 0.046586704093077795, 0.0698800561396167]  # 10 deg
 
-playwright = pytest.importorskip("playwright.sync_api")
+from playwright import sync_api as playwright  # a test dependency (pyproject): missing is an error
 if not Path(CHROMIUM).exists():
     if os.environ.get("CI"):
         raise RuntimeError("Chromium is missing: `make test` installs Debian's chromium")
