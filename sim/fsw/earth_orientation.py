@@ -111,3 +111,22 @@ def intermediate_from_precession(t_tt_centuries):
 def earth_fixed_from_gci(dcm_CN, era_rad):
     """dcm_EN: r_E = dcm_EN r_N (E: Earth-fixed, polar motion neglected)."""
     return mat3_mul(rot3(era_rad), dcm_CN)
+
+
+@njit(cache=True)
+def ecliptic_of_date_to_gci(lam, beta, r, t_centuries):
+    """Position from longitude, latitude (rad) and distance (m) on the mean
+    ecliptic and equinox of date, to GCI (mean equator and equinox of J2000):
+    rotate by the mean obliquity of date, then undo the IAU 1976 precession.
+    Shared by the on-board Sun and Moon."""
+    x = r * math.cos(beta) * math.cos(lam)
+    y = r * math.cos(beta) * math.sin(lam)
+    z = r * math.sin(beta)
+    eps = mean_obliquity_iau1976_rad(t_centuries)
+    ce, se = math.cos(eps), math.sin(eps)
+    yq, zq = ce * y - se * z, se * y + ce * z      # mean equator of date
+    p = precession_iau1976(t_centuries)            # J2000 -> date; transpose back
+    out = np.empty(3)
+    for i in range(3):
+        out[i] = p[0, i] * x + p[1, i] * yq + p[2, i] * zq
+    return out

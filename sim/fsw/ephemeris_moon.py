@@ -31,10 +31,9 @@ short spells (2010, 2026, 2028; 0.04 % of the samples); distance within 1250 km.
 """
 import math
 
-import numpy as np
 from numba import njit
 
-from sim.fsw.earth_orientation import mean_obliquity_iau1976_rad, precession_iau1976
+from sim.fsw.earth_orientation import ecliptic_of_date_to_gci
 from sim.fsw.onboard_time import DAYS_PER_JULIAN_CENTURY, tt_days_j2000
 
 A_E_M = 6378140.0   # the Earth's equatorial radius of the AA's parallax (IAU 1976 system)
@@ -70,17 +69,7 @@ def moon_position_tt_N(t_tt_days_j2000):
     """Geocentric Moon, GCI (mean equator and equinox of J2000), m; TT days since J2000.0."""
     t = t_tt_days_j2000 / DAYS_PER_JULIAN_CENTURY
     lam, beta, r = moon_ecliptic_of_date(t)
-    x = r * math.cos(beta) * math.cos(lam)
-    y = r * math.cos(beta) * math.sin(lam)
-    z = r * math.sin(beta)
-    eps = mean_obliquity_iau1976_rad(t)
-    ce, se = math.cos(eps), math.sin(eps)
-    yq, zq = ce * y - se * z, se * y + ce * z      # mean equator of date
-    p = precession_iau1976(t)
-    out = np.empty(3)
-    for i in range(3):
-        out[i] = p[0, i] * x + p[1, i] * yq + p[2, i] * zq
-    return out
+    return ecliptic_of_date_to_gci(lam, beta, r, t)
 
 
 @njit(cache=True)

@@ -38,7 +38,7 @@ import math
 import numpy as np
 from numba import njit
 
-from sim.fsw.earth_orientation import ARCSEC_RAD, mean_obliquity_iau1976_rad, precession_iau1976
+from sim.fsw.earth_orientation import ARCSEC_RAD, ecliptic_of_date_to_gci
 from sim.fsw.onboard_time import DAYS_PER_JULIAN_CENTURY, tt_days_j2000
 
 AU_M = 149597870700.0        # IAU 2012 Resolution B2
@@ -156,17 +156,7 @@ def sun_position_tt_N(t_tt_days_j2000):
     lam = lam - 0.09033 * ARCSEC_RAD
     beta = beta + 0.03916 * ARCSEC_RAD * (math.cos(lam_p) - math.sin(lam_p))
     r = r_au * AU_M
-    x = r * math.cos(beta) * math.cos(lam)         # ecliptic of date
-    y = r * math.cos(beta) * math.sin(lam)
-    z = r * math.sin(beta)
-    eps = mean_obliquity_iau1976_rad(t)
-    ce, se = math.cos(eps), math.sin(eps)
-    yq, zq = ce * y - se * z, se * y + ce * z      # mean equator of date
-    p = precession_iau1976(t)                      # J2000 -> date; transpose back
-    out = np.empty(3)
-    for i in range(3):
-        out[i] = p[0, i] * x + p[1, i] * yq + p[2, i] * zq
-    return out
+    return ecliptic_of_date_to_gci(lam, beta, r, t)
 
 
 @njit(cache=True)
