@@ -22,6 +22,7 @@ import yaml
 REPO = Path(__file__).resolve().parent.parent
 HOLD_SCENARIO = REPO / "scenarios" / "sdo_inertial_hold.yaml"
 SLEW_SCENARIO = REPO / "scenarios" / "sdo_inertial_slew.yaml"
+SCIENCE_SCENARIO = REPO / "scenarios" / "sdo_science_day.yaml"
 
 
 def basilisk_mirror() -> dict:
@@ -47,7 +48,10 @@ def basilisk_mirror() -> dict:
                        "coulomb_Nm": 0.0},
             # the reference's spacecraft carries no Sun sensors or tachometers: attitude
             # and rates only (its simpleNav; here the IRU and the star trackers)
-            "sensors": {"css": None, "dss": None, "guide_telescopes": None, "tachometers": None}},
+            "sensors": {"css": None, "dss": None, "guide_telescopes": None, "tachometers": None},
+            # its flight software takes the navigation attitude as it is: fly a tracker, no filter,
+            # and it has no zero-speed logic
+            "fsw": {"attitude_option": "star_tracker", "wheel_bias": None}},
         "initial": {"mode": "INERTIAL", "q_BN": quat_from_mrp(np.array([0.1, 0.2, -0.3])).tolist(),
                     "omega_BN_B_rad_s": omega0, "h_wheels_Nms": h0, "target_q_RN": [1.0, 0.0, 0.0, 0.0]},
         # the reference has no environment: no disturbance torque, point-mass gravity
@@ -74,7 +78,18 @@ def sdo_truth() -> dict:
     return data
 
 
-BENCHMARKS = {"basilisk-mirror": basilisk_mirror, "sdo-inertial": sdo_inertial, "sdo-truth": sdo_truth}
+def sdo_science() -> dict:
+    """Science mode with the whole flight software (EKF on the IRU, both star
+    trackers and the DSS; the on-board ephemeris task at 1 Hz; the guide
+    telescope; torque filters; zero-speed logic) on the full truth model at
+    flight rates, one hour, recorded at 1 Hz."""
+    data = yaml.safe_load(SCIENCE_SCENARIO.read_text())
+    data.update(name="sdo-science", duration_s=3600.0, expect=[], output={"period_s": 1.0})
+    return data
+
+
+BENCHMARKS = {"basilisk-mirror": basilisk_mirror, "sdo-inertial": sdo_inertial, "sdo-truth": sdo_truth,
+              "sdo-science": sdo_science}
 
 
 def time_ours(data: dict) -> tuple[float, float, float]:

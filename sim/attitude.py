@@ -200,3 +200,11 @@ def quat_from_mrp(sigma):
 def angle_between_arcsec(q_a, q_b) -> float:
     """Angle (arcsec) of the rotation between two attitudes; for telemetry."""
     return float(rotation_angle(quat_mul(quat_conj(np.asarray(q_a, float)), np.asarray(q_b, float)))) * ARCSEC_PER_RAD
+
+
+def mounting_dcm_XB(q_BX, misalignment_rad=(0.0, 0.0, 0.0)) -> np.ndarray:
+    """dcm_XB of a sensor frame X mounted at q_BX (attitude of X in B, as the
+    star trackers' q_BS) and then turned by a small misalignment rotation
+    vector given in X axes: q_BX_true = q_BX (x) exp(misalignment)."""
+    q = quat_mul(np.asarray(q_BX, float), quat_from_rotvec(np.asarray(misalignment_rad, float)))
+    return np.ascontiguousarray(quat_to_dcm(q).T)

@@ -26,21 +26,31 @@ from sim.commands import (
     CommandBase,
     CommandRecord,
     InjectFault,
-    SetTargetQuaternion,
     Stage,
 )
 from sim.events import ERROR, INFO, WARNING, Event
 from sim.expectations import evaluate
 from sim.faults import describe as describe_fault
-from sim.fsw.cycle import EVENT_SLEW_SETTLED
+from sim.attitude import dcm_to_quat, quat_mul
 from sim.fsw.flight_software import FlightSoftware
+from sim.fsw.snr import SOLAR_POLE_N, snr_dcm_NS
+from sim.fsw.state import EVENT_SLEW_SETTLED
 from sim.loop import advance
 from sim.records import empty_actuator_command, empty_sensor_record
-from sim.scenario import Scenario, initial_mode, initial_target
+from sim.scenario import Scenario, initial_mode
 from sim.spacecraft.definition import Spacecraft
 from sim.truth import build, sensor_suite
+from sim.truth.plant import apparent_sun_N, set_environment
+from sim.uplink import make_uplink
 
 NOISE_BLOCK_CYCLES = 4096  # rows drawn at once; fixed, so draws never depend on segmenting
+
+
+def truth_snr_quat(ts, tp) -> np.ndarray:
+    """The SNR frame at t = 0 from the truth's apparent Sun (for initial
+    attitudes given relative to it)."""
+    set_environment(ts, tp, 0.0)
+    return dcm_to_quat(snr_dcm_NS(apparent_sun_N(ts, tp), SOLAR_POLE_N))
 
 
 class Listener:
@@ -103,24 +113,34 @@ class Runner:
         orbit = scenario.orbit or build.default_orbit(sc.name, scenario.epoch_utc)
         r0, v0 = orbit.to_rv()
         propellant = sc.mass.propellant_kg if init.propellant_kg is None else init.propellant_kg
-        self.truth = build.make_truth_state(sc, self.truth_params, init.q_BN, init.omega_BN_B_rad_s, h0, r0, v0,
-                                            propellant)
+
+        def truth_state(q_BN):
+            return build.make_truth_state(sc, self.truth_params, q_BN, init.omega_BN_B_rad_s, h0, r0, v0, propellant)
+
+        self.truth = truth_state(init.q_BN)
+        q_BN = np.array(init.q_BN, float)
+        if init.q_BN_frame == "snr":
+            q_BN = quat_mul(truth_snr_quat(self.truth, self.truth_params), q_BN)
+            self.truth = truth_state(q_BN)
         self.sensors = empty_sensor_record(len(sc.star_trackers), sc.n_wheels, *telemetry_fields.sensor_counts(sc))
         n_thr = len(sc.thrusters.units)
         self.act_applied = empty_actuator_command(sc.n_wheels, n_thr)
         self.act_new = empty_actuator_command(sc.n_wheels, n_thr)
-        # The flight software starts knowing the initial attitude (as if uplinked).
-        self.fsw = FlightSoftware(sc, initial_mode(scenario), init.q_BN, initial_target(scenario))
+        # The flight software starts knowing the initial attitude and orbit (as if uplinked).
+        gci_target = None if init.target == "snr" else (init.target_q_RN or q_BN)
+        self.fsw = FlightSoftware(sc, make_uplink(scenario.epoch_utc, r0, v0), initial_mode(scenario), q_BN,
+                                  gci_target)
 
         self.n_noise = sensor_suite.noise_per_cycle(self.truth_params.sensors)
         self._noise = np.empty((0, self.n_noise))
         self._noise_row = 0
-        self._slew: tuple[CommandRecord, int] | None = None  # executing slew and its deadline cycle
+        self._slew: tuple[CommandRecord, int, float] | None = None  # executing slew, deadline cycle, s allowed
+        self._n_transitions = 0
 
         self.queue = CommandQueue(self._on_stage)
         self.emit(Event(0.0, INFO, "runner", "run", f"run start: {scenario.name} seed {self.seed}"))
-        for c in scenario.commands:
-            self.submit(c.command, "scenario", c.t_s)
+        for t_s, command in scenario.scheduled_commands():
+            self.submit(command, "scenario", t_s)
 
     # -- time ----------------------------------------------------------------
     @property
@@ -169,26 +189,39 @@ class Runner:
                 continue
             self.queue.stamp(rec, ACCEPTED, self.t_s)
             self.queue.stamp(rec, EXECUTING, self.t_s)
+            self._emit_transitions()
             if outcome.completed:
                 self.queue.stamp(rec, COMPLETED, self.t_s)
-            elif isinstance(rec.command, SetTargetQuaternion):
+            elif outcome.watch_slew:
                 self._start_slew(rec)
 
     def _start_slew(self, rec: CommandRecord) -> None:
         if self._slew is not None:
             self.queue.stamp(self._slew[0], FAILED, self.t_s, f"superseded by command {rec.id}")
-        self._slew = (rec, self.cycle + self.cycle_at(self.fsw.slew_timeout_s))
+        allowed_s = self.fsw.slew_time_allowed_s()
+        self._slew = (rec, self.cycle + self.cycle_at(allowed_s), allowed_s)
 
     def _on_fsw_event(self, code: int) -> None:
-        if code == EVENT_SLEW_SETTLED and self._slew is not None:
-            self.queue.stamp(self._slew[0], COMPLETED, self.t_s)
-            self._slew = None
+        if code == EVENT_SLEW_SETTLED:
+            if self._slew is not None:
+                self.queue.stamp(self._slew[0], COMPLETED, self.t_s)
+                self._slew = None
+            return
+        self.fsw.on_event(code)
+        self._emit_transitions()
+
+    def _emit_transitions(self) -> None:
+        while self._n_transitions < len(self.fsw.transitions):
+            tr = self.fsw.transitions[self._n_transitions]
+            self._n_transitions += 1
+            self.emit(Event(self.t_s, WARNING if tr.cause == "fdc" else INFO, "fsw", "mode", tr.describe(),
+                            {"from": tr.old.name, "to": tr.new.name, "cause": tr.cause}))
 
     def _check_deadlines(self) -> None:
         if self._slew is not None and self.cycle >= self._slew[1]:
             self.fsw.stop_watching_slew()
             self.queue.stamp(self._slew[0], FAILED, self.t_s,
-                             f"not inside the integral torque box within {self.fsw.slew_timeout_s:g} s")
+                             f"not inside the integral torque box within {self._slew[2]:.0f} s")
             self._slew = None
 
     # -- output --------------------------------------------------------------

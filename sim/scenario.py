@@ -9,14 +9,14 @@ from __future__ import annotations
 import typing
 from datetime import datetime, timezone
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
-import numpy as np
 import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from sim import spacecraft as spacecraft_files
-from sim.commands import COMMAND_TYPES, Command
+from sim.calibration import MANEUVER_TYPES, ScheduledCalibration, duration_s
+from sim.commands import COMMAND_TYPES, Command, split_time_tag
 from sim.expectations import Expectation
 from sim.faults import FAULT_KINDS
 from sim.modes import IMPLEMENTED, Mode
@@ -38,16 +38,26 @@ class Strict(BaseModel):
 
 class InitialState(Strict):
     mode: str = Field("INERTIAL", description="initial mode name")
-    q_BN: Quat = (1.0, 0.0, 0.0, 0.0)
+    q_BN: Quat = Field((1.0, 0.0, 0.0, 0.0), description="initial attitude, in the frame q_BN_frame")
+    q_BN_frame: Literal["gci", "snr"] = Field(
+        "gci", description="gci: q_BN is the attitude in GCI; snr: q_BN is relative to the SNR frame at the epoch")
     omega_BN_B_rad_s: Vec3 = (0.0, 0.0, 0.0)
     h_wheels_Nms: list[float] | None = Field(None, description="axial momentum of each wheel; zero when absent")
     propellant_kg: float | None = Field(None, ge=0, description="propellant on board; full tanks when absent")
-    target_q_RN: Quat | None = Field(None, description="initial Inertial target; the initial attitude when absent")
+    target: Literal["attitude", "snr"] = Field(
+        "attitude", description="initial target: the initial attitude (GCI), or the on-board SNR frame")
+    target_q_RN: Quat | None = Field(None, description="initial GCI target; the initial attitude when absent")
 
     @field_validator("q_BN", "target_q_RN")
     @classmethod
     def _unit(cls, q):
         return q if q is None else check_unit_quaternion(q)
+
+    @model_validator(mode="after")
+    def _one_target(self) -> "InitialState":
+        if self.target == "snr" and self.target_q_RN is not None:
+            raise ValueError("target_q_RN: a GCI target cannot be given with target: snr; give one of them")
+        return self
 
     @field_validator("mode")
     @classmethod
@@ -66,11 +76,7 @@ class ScheduledCommand(Strict):
     @model_validator(mode="before")
     @classmethod
     def _split(cls, data: Any) -> Any:
-        if isinstance(data, dict) and "command" not in data:
-            data = dict(data)
-            t = data.pop("t_s", None)
-            return {"t_s": t, "command": data} if t is not None else {"command": data}
-        return data
+        return split_time_tag(data, "command")
 
 
 class Environment(Strict):
@@ -100,6 +106,8 @@ class Scenario(Strict):
     orbit: OrbitElements | None = Field(None, description="initial osculating elements; the spacecraft's when absent")
     environment: Environment = Environment()
     commands: list[ScheduledCommand] = Field(default_factory=list)
+    calibrations: list[ScheduledCalibration] = Field(
+        default_factory=list, description="calibration maneuvers, expanded into time-tagged target commands")
     output: OutputSpec = OutputSpec()
     expect: list[Expectation] = Field(default_factory=list)
 
@@ -121,7 +129,19 @@ class Scenario(Strict):
             if c.t_s > self.duration_s:
                 raise ValueError(f"commands.{i}.t_s: {c.t_s:g} s is past the end of the run "
                                  f"(duration_s = {self.duration_s:g})")
+        for i, c in enumerate(self.calibrations):
+            end = c.t_s + duration_s(c.calibration)
+            if end > self.duration_s:
+                raise ValueError(f"calibrations.{i}: the maneuver ends at {end:g} s, past the end of the run "
+                                 f"(duration_s = {self.duration_s:g})")
         return self
+
+    def scheduled_commands(self) -> list[tuple[float, Any]]:
+        """Every time-tagged command: the commands, then the calibrations' expansions."""
+        out = [(c.t_s, c.command) for c in self.commands]
+        for c in self.calibrations:
+            out.extend(c.commands())
+        return out
 
     def spacecraft_config(self) -> Spacecraft:
         return spacecraft_files.load_spacecraft(self.spacecraft, self.overrides)
@@ -163,7 +183,7 @@ def _loc(loc: tuple) -> str:
     for p in loc:
         # The discriminated union adds the tag and our wrapper a "command" level:
         # neither is something the user wrote.
-        if p == "command" or p in COMMAND_TYPES or p in FAULT_KINDS:
+        if p in ("command", "calibration") or p in COMMAND_TYPES or p in FAULT_KINDS or p in MANEUVER_TYPES:
             continue
         parts.append(str(p))
     return ".".join(parts)
@@ -184,8 +204,8 @@ def _allowed_fields(root: type[BaseModel], loc: tuple) -> list[str]:
     """The field names allowed where loc's last element was found."""
     model: type[BaseModel] | None = root
     for p in loc[:-1]:
-        if p in COMMAND_TYPES or p in FAULT_KINDS:
-            model = COMMAND_TYPES.get(p) or FAULT_KINDS[p]
+        if p in COMMAND_TYPES or p in FAULT_KINDS or p in MANEUVER_TYPES:
+            model = COMMAND_TYPES.get(p) or FAULT_KINDS.get(p) or MANEUVER_TYPES[p]
         elif isinstance(p, str):
             if model is None or p not in model.model_fields:
                 return []
@@ -204,8 +224,9 @@ def _message(e: dict, root: type[BaseModel]) -> tuple[tuple, str]:
         return loc, f"unknown field {loc[-1]!r}" + (f"; allowed: {', '.join(allowed)}" if allowed else "")
     if kind in ("union_tag_invalid", "union_tag_not_found"):
         tag = e.get("ctx", {}).get("discriminator", "'type'").strip("'")
-        allowed = ", ".join(COMMAND_TYPES if tag == "type" else FAULT_KINDS)
-        noun = "command type" if tag == "type" else "fault kind"
+        kinds = {"type": ("command type", COMMAND_TYPES), "maneuver": ("calibration maneuver", MANEUVER_TYPES)}
+        noun, names = kinds.get(tag, ("fault kind", FAULT_KINDS))
+        allowed = ", ".join(names)
         what = f"unknown {noun} {found.get(tag)!r}" if kind == "union_tag_invalid" else "missing"
         return (*loc, tag), f"{what}; allowed: {allowed}"
     msg = e["msg"].removeprefix("Value error, ")
@@ -258,10 +279,6 @@ def load_scenario(path: str | Path) -> tuple[Scenario, Spacecraft]:
         where = f":{mark.line + 1}:{mark.column + 1}" if mark else ""
         raise ScenarioError(f"{path}{where}: not valid YAML ({getattr(err, 'problem', err)})") from None
     return parse_scenario(data, str(path))
-
-
-def initial_target(s: Scenario) -> np.ndarray:
-    return np.array(s.initial.target_q_RN or s.initial.q_BN, float)
 
 
 def initial_mode(s: Scenario) -> Mode:

@@ -14,15 +14,27 @@ import functools
 import numpy as np
 from numba import njit
 
-from sim.attitude import ARCSEC_PER_RAD, quat_conj, quat_mul, quat_rotate, quat_rotate_inv, rotation_angle
+from sim.attitude import (
+    ARCSEC_PER_RAD,
+    error_quat,
+    quat_conj,
+    quat_mul,
+    quat_rotate,
+    quat_rotate_inv,
+    rotation_angle,
+    small_angle_error,
+)
+from sim.fsw.state import F_CGT_OK
 from sim.modes import Mode
 from sim.truth import mass as massmod
 from sim.truth.dynamics import loads
 from sim.truth.plant import apparent_sun_N
+from sim.truth.sensors.sensor_geometry import angle_between
 from sim.truth.rigid_body import IH, IQ, IW, angular_momentum_B
 from sim.truth.wheels import wheel_speeds_rad_s
 
 RPM_PER_RAD_S = 60.0 / (2.0 * np.pi)
+DEG_H_PER_RAD_S = 180.0 / np.pi * 3600.0
 XYZ = ("x", "y", "z")
 WXYZ = ("w", "x", "y", "z")
 
@@ -58,7 +70,7 @@ def field_names(n_wheels: int = 4, n_thrusters: int = 8, n_star_trackers: int = 
     return tuple(always_fields(n_wheels) + (
         ["h_total_Nms", "est_err_arcsec"] + _vec("q_est_BN", axes=WXYZ) + _vec("q_RN", axes=WXYZ)
         + _vec("theta_e_B", "_arcsec") + _vec("iru_rate_B", "_rad_s")
-        + _vec("torque_cmd_B", "_Nm") + _vec("torque_undelivered_B", "_Nm")
+        + _vec("torque_pid_B", "_Nm") + _vec("torque_cmd_B", "_Nm") + _vec("torque_undelivered_B", "_Nm")
         + ["integrator_active"] + _vec("integrator_active") + _vec("integral_B", "_rad_s")
         + _vec("torque_int_B", "_Nm")
         + _numbered("wheel_speed", "_rpm", n_wheels) + _numbered("wheel_cmd", "_Nm", n_wheels)
@@ -67,7 +79,22 @@ def field_names(n_wheels: int = 4, n_thrusters: int = 8, n_star_trackers: int = 
         + _vec("torque_thrusters_B", "_Nm") + ["mass_kg", "propellant_kg"]
         + _vec("r_N", "_m") + _vec("v_N", "_m_s")
         + _numbered("thr_pulses", "", n_thrusters) + ["engine_on"]
+        + fsw_fields(n_star_trackers, n_wheels)
         + sensor_fields(n_star_trackers, n_wheels, n_css, n_gt)))
+
+
+def fsw_fields(n_star_trackers: int, n_wheels: int) -> list[str]:
+    """Targeting, attitude determination and Science mode (sim/fsw/state.py);
+    knowledge_err_B is the estimate's error against the truth, point_err and
+    roll_err the truth attitude's against the flight software's target, and
+    sun_fsw_err the on-board apparent Sun's against the truth's."""
+    return (["target_kind", "attitude_option", "star_tracker_flown", "cgt", "science_autonomy", "cgt_ok",
+             "cgt_err_y_arcsec", "cgt_err_z_arcsec"] + _vec("q_SN", axes=WXYZ)
+            + _vec("ekf_bias_B", "_deg_h") + _vec("ekf_sigma_att_B", "_arcsec") + _vec("ekf_sigma_bias_B", "_deg_h")
+            + [f"st_{k + 1}_innov_{a}_arcsec" for k in range(n_star_trackers) for a in XYZ]
+            + _numbered("st_used", "", n_star_trackers) + ["dss_innov_alpha_arcsec", "dss_innov_beta_arcsec", "dss_used"]
+            + _vec("knowledge_err_B", "_arcsec") + ["point_err_arcsec", "roll_err_arcsec", "sun_fsw_err_arcsec"]
+            + _numbered("wheel_bias", "_Nm", n_wheels))
 
 
 def sensor_counts(sc) -> tuple[int, int]:
@@ -90,6 +117,22 @@ def _sensor_numbers(rec):
 
 
 @njit(cache=True)
+def _fsw_numbers(s, q_BN, sun_N):
+    e = s.ekf
+    sig = np.sqrt(e.P_diag)
+    know = small_angle_error(error_quat(s.q_est_BN, q_BN))
+    point = small_angle_error(error_quat(s.q_RN, q_BN))
+    return np.concatenate((
+        np.array([float(s.target[0]), float(s.att_option[0]), float(s.st_select[0] + 1), float(s.cgt[0] + 1),
+                  1.0 if s.autonomy[0] else 0.0, s.flags[F_CGT_OK]]), s.cgt_err_B * ARCSEC_PER_RAD, s.q_SN,
+        e.bias_B * DEG_H_PER_RAD_S, sig[0:3] * ARCSEC_PER_RAD, sig[3:6] * DEG_H_PER_RAD_S,
+        e.st_innov.ravel() * ARCSEC_PER_RAD, e.st_updated.astype(np.float64), e.dss_innov * ARCSEC_PER_RAD,
+        e.dss_updated.astype(np.float64), know * ARCSEC_PER_RAD,
+        np.array([np.sqrt(point[1] ** 2 + point[2] ** 2) * ARCSEC_PER_RAD, point[0] * ARCSEC_PER_RAD,
+                  angle_between(s.sun_N, sun_N) * ARCSEC_PER_RAD]), s.wheel_bias_Nm))
+
+
+@njit(cache=True)
 def _numbers(t_s, ts, tp, s, rec, act):
     """The numeric fields in field_names() order (mode left out), compiled:
     telemetry is sampled often enough that Python-level math would dominate."""
@@ -103,21 +146,26 @@ def _numbers(t_s, ts, tp, s, rec, act):
     m_prop = x[ir + 6]
     j_prime = massmod.inertia_B(m_prop, tp.dyn.mass) - w.spin_inertia_B
     h_total_N = quat_rotate(q_BN, angular_momentum_B(x, j_prime, w))
-    sun_B = quat_rotate_inv(q_BN, apparent_sun_N(ts, tp))
+    sun_N = apparent_sun_N(ts, tp)
+    sun_B = quat_rotate_inv(q_BN, sun_N)
     ld = loads(x, tp.dyn, ts.inputs)
-    return np.concatenate((
+    # two concatenations: a tuple of more than 30 non-constant items compiles to
+    # an op-code numba does not support (CPython 3.11's LIST_TO_TUPLE)
+    head = np.concatenate((
         np.array([t_s]), q_BN, omega, h, h_total_N,
         np.array([rotation_angle(quat_mul(quat_conj(s.q_RN), q_BN)) * ARCSEC_PER_RAD,
                   np.sqrt(np.sum(h_total_N * h_total_N)),
                   rotation_angle(quat_mul(quat_conj(s.q_est_BN), q_BN)) * ARCSEC_PER_RAD]),
-        s.q_est_BN, s.q_RN, s.theta_e * ARCSEC_PER_RAD, s.rate_B, s.torque_cmd_B, s.torque_undelivered_B,
+        s.q_est_BN, s.q_RN, s.theta_e * ARCSEC_PER_RAD, s.rate_B, s.torque_pid_B, s.torque_cmd_B,
+        s.torque_undelivered_B,
         np.array([1.0 if s.int_active.all() else 0.0]), s.int_active.astype(np.float64), s.integral,
         s.torque_int_B,
-        wheel_speeds_rad_s(h, omega, w.axes_B, w.spin_inertia) * RPM_PER_RAD_S, act.wheel_torque_Nm,
-        sun_B, np.array([np.degrees(np.arccos(min(max(sun_B[0], -1.0), 1.0))), ts.inputs.lit_fraction[0]]),
+        wheel_speeds_rad_s(h, omega, w.axes_B, w.spin_inertia) * RPM_PER_RAD_S, act.wheel_torque_Nm))
+    return np.concatenate((
+        head, sun_B, np.array([np.degrees(np.arccos(min(max(sun_B[0], -1.0), 1.0))), ts.inputs.lit_fraction[0]]),
         ld.torque_srp_B, ld.torque_gg_B, ld.torque_engine_B, ld.torque_thrusters_B,
         np.array([massmod.total_mass_kg(m_prop, tp.dyn.mass), m_prop]), x[ir:ir + 6],
-        act.thruster_pulses, act.engine_on, _sensor_numbers(rec)))
+        act.thruster_pulses, act.engine_on, _fsw_numbers(s, q_BN, sun_N), _sensor_numbers(rec)))
 
 
 def sample(t_s: float, ts, tp, fsw_state, sensors, act) -> tuple[str, np.ndarray]:

@@ -11,7 +11,8 @@ from sim.fsw.ekf import ARCMIN, ekf_params_from_spacecraft
 from sim.fsw.ekf_measurements import dss_residual, dss_sigma, rotvec_of, scalar_update, star_tracker_residual
 from sim.spacecraft import load_spacecraft
 from sim.truth.sensors import dss as truth_dss
-from sim.truth.sensors.sensor_geometry import mounting_dcm_XB, tangent_angles
+from sim.attitude import mounting_dcm_XB
+from sim.truth.sensors.sensor_geometry import tangent_angles
 
 DEG = np.pi / 180.0
 ARCSEC = DEG / 3600.0

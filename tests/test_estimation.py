@@ -8,7 +8,7 @@ from sim.scenario import parse_scenario
 
 
 def _hold(source, duration_s=600.0, iru=None):
-    overrides = {"fsw": {"attitude_source": source}}
+    overrides = {"fsw": {"attitude_option": source}}
     if iru:
         overrides["sensors"] = {"iru_units": iru}
     return parse_scenario({"name": "t", "spacecraft": "sdo", "duration_s": duration_s, "seed": 5,

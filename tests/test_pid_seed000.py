@@ -2,14 +2,14 @@
 import numpy as np
 import pytest
 
-from sim.fsw.flight_software import make_fsw_params
+from sim.fsw.build import pid_params
 from sim.fsw.pid import limit_attitude, pid_torque
 from sim.spacecraft import load_spacecraft
 
 
 @pytest.fixture(scope="module")
 def pid():
-    return make_fsw_params(load_spacecraft("sdo")).pid
+    return pid_params(load_spacecraft("sdo"))
 
 
 def _inertia_diag(pid):

@@ -4,7 +4,8 @@ from __future__ import annotations
 from pydantic import Field, field_validator, model_validator
 
 from sim.spacecraft.actuator_models import MainEngine, Thrusters
-from sim.spacecraft.model import Fsw, Positive, StarTracker, Strict, Timing, Vec3, Wheels
+from sim.spacecraft.fsw_models import Fsw
+from sim.spacecraft.model import Positive, StarTracker, Strict, Timing, Vec3, Wheels
 from sim.spacecraft.sensor_models import SensorSuite
 from sim.spacecraft.structure_models import MassProperties, Surface, check_inertia
 

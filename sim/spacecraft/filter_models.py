@@ -8,23 +8,17 @@ designs and discretises it at parameter-build time (sim/fsw/filter_design.py).
 Frequencies are of the *discrete* filter, in Hz: the design prewarps them, so
 the digital response has its edges exactly there.
 
-Staging: the numbers for SDO live in sim/spacecraft/torque_filters/sdo.yaml,
-written as the block that belongs under `fsw:` in sim/spacecraft/sdo.yaml
-(`fsw.torque_filters`). `load_torque_filters` reads it from the spacecraft file
-once it is there, else from the staged file.
+The numbers for SDO are `fsw.torque_filters` of sim/spacecraft/sdo.yaml.
 """
 from __future__ import annotations
 
-from pathlib import Path
 from typing import Annotated, Literal, Union
 
-import yaml
 from pydantic import Field, model_validator
 
 from sim.spacecraft.model import Positive, Strict
 
 MAX_ORDER = 4  # seed 001: "up to a fourth-order discrete filter"
-STAGED = Path(__file__).parent / "torque_filters"
 
 Order = Annotated[int, Field(ge=1, le=MAX_ORDER, description=f"filter order, 1..{MAX_ORDER} (seed 001)")]
 
@@ -73,14 +67,7 @@ class TorqueFilters(Strict):
 
 
 def load_torque_filters(name: str) -> TorqueFilters:
-    """The spacecraft's torque filters: `fsw.torque_filters` of its file, else
-    the staged file torque_filters/<name>.yaml."""
-    from sim.spacecraft import raw_definition
+    """The torque filters of spacecraft `name` (its `fsw.torque_filters`)."""
+    from sim.spacecraft import load_spacecraft
 
-    block = raw_definition(name).get("fsw", {}).get("torque_filters")
-    if block is None:
-        path = STAGED / f"{name}.yaml"
-        if not path.exists():
-            raise KeyError(f"spacecraft {name!r} defines no torque filters (fsw.torque_filters or {path})")
-        block = yaml.safe_load(path.read_text())["torque_filters"]
-    return TorqueFilters.model_validate(block)
+    return load_spacecraft(name, {}).fsw.torque_filters

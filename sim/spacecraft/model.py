@@ -89,29 +89,3 @@ class StarTracker(Strict):
     @classmethod
     def _unit(cls, q: Quat) -> Quat:
         return check_unit_quaternion(q)
-
-
-class InertialControl(Strict):
-    """Seed 001 eq. (3) PID with the seed 000 integral torque box (option 3, hold)."""
-    kp_per_s2: Positive = Field(description="k_p; K_p = k_p * I")
-    kd_per_s: Positive = Field(description="k_d; K_d = k_d * I")
-    ki_per_s3: NonNegative = Field(description="k_i; K_i = k_i * I")
-    integrator_limit_rad_s: Positive = Field(description="per-axis limit of the integral of theta_e")
-    box_theta_lim_rad: Positive = Field(description="integral torque box attitude limit, per axis")
-    box_omega_lim_rad_s: Positive = Field(description="integral torque box rate limit, per axis")
-    attitude_limit_rad: Positive = Field(description="magnitude limit of theta_e (overshoot suppression)")
-    box_option: Literal[1, 2, 3] = Field(
-        3, description="when the integral acts: 1 Routh criterion, 2 PD torque/attitude saturation, 3 the box")
-    box_per_axis: bool = Field(False, description="option 3 per axis (else any axis outside disables all)")
-    disable: Literal["hold", "zero", "zero_reset"] = Field(
-        "hold", description="how: hold the integral torque, zero it, or zero it and reset on re-entry")
-    torque_sat_Nm: Positive = Field(0.25, description="actuator saturation torque, option 2")
-
-
-class Fsw(Strict):
-    attitude_source: Literal["star_tracker", "iru"] = Field(
-        "star_tracker", description="fly a star tracker's quaternion, or propagate with the IRU")
-    star_tracker: int = Field(0, ge=0, description="index of the star tracker flown")
-    inertial: InertialControl
-    slew_timeout_s: Positive = Field(
-        description="a slew is complete once inside the integral torque box on every axis; not by then, it failed")

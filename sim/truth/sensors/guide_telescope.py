@@ -26,9 +26,9 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from sim.attitude import mounting_dcm_XB
 from sim.truth.sensors.sensor_geometry import (
     direction_in_sensor,
-    mounting_dcm_XB,
     off_boresight_angle,
     tangent_angles,
 )

@@ -8,7 +8,7 @@ and, through the SRB, the guide telescopes point along the spacecraft X axis).
 import numpy as np
 from numba import njit
 
-from sim.attitude import quat_from_rotvec, quat_mul, quat_rotate_inv, quat_to_dcm
+from sim.attitude import quat_rotate_inv
 from sim.linalg import matvec
 
 
@@ -43,11 +43,3 @@ def angle_between(a, b):
 def off_boresight_angle(v_X):
     """Angle (rad) between v and the +X boresight."""
     return np.arctan2(np.sqrt(v_X[1] * v_X[1] + v_X[2] * v_X[2]), v_X[0])
-
-
-def mounting_dcm_XB(q_BX, misalignment_rad=(0.0, 0.0, 0.0)) -> np.ndarray:
-    """dcm_XB of a sensor frame X mounted at q_BX (attitude of X in B, as the
-    star trackers' q_BS) and then turned by a small misalignment rotation
-    vector given in X axes: q_BX_true = q_BX (x) exp(misalignment)."""
-    q = quat_mul(np.asarray(q_BX, float), quat_from_rotvec(np.asarray(misalignment_rad, float)))
-    return np.ascontiguousarray(quat_to_dcm(q).T)
