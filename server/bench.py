@@ -49,9 +49,10 @@ def basilisk_mirror() -> dict:
             # the reference's spacecraft carries no Sun sensors or tachometers: attitude
             # and rates only (its simpleNav; here the IRU and the star trackers)
             "sensors": {"css": None, "dss": None, "guide_telescopes": None, "tachometers": None},
-            # its flight software takes the navigation attitude as it is: fly a tracker, no filter,
-            # and it has no zero-speed logic
-            "fsw": {"attitude_option": "star_tracker", "wheel_bias": None}},
+            # its flight software takes the navigation attitude as it is (fly a tracker, no
+            # Kalman filter) and has no ephemeris, no torque filter and no zero-speed logic
+            "fsw": {"attitude_option": "star_tracker", "wheel_bias": None, "ephemeris": None,
+                    "torque_filters": {bank: {"x": None, "y": None, "z": None} for bank in ("inertial", "science")}}},
         "initial": {"mode": "INERTIAL", "q_BN": quat_from_mrp(np.array([0.1, 0.2, -0.3])).tolist(),
                     "omega_BN_B_rad_s": omega0, "h_wheels_Nms": h0, "target_q_RN": [1.0, 0.0, 0.0, 0.0]},
         # the reference has no environment: no disturbance torque, point-mass gravity

@@ -18,6 +18,7 @@ from sim import spacecraft as spacecraft_files
 from sim.calibration import MANEUVER_TYPES, ScheduledCalibration, duration_s
 from sim.commands import COMMAND_TYPES, Command, split_time_tag
 from sim.expectations import Expectation
+from sim.fsw.filter_design import make_torque_filter_params
 from sim.faults import FAULT_KINDS
 from sim.modes import IMPLEMENTED, Mode
 from sim.spacecraft.definition import Spacecraft
@@ -168,6 +169,13 @@ def _spacecraft_checks(s: Scenario, sc: Spacecraft) -> list[str]:
     if abs(ratio - round(ratio)) > 1e-9:
         problems.append(f"output.period_s: expected a whole multiple of the control cycle ({cycle:g} s), "
                         f"found {s.output.period_s:g}")
+    if sc.fsw.ephemeris is None and "snr" in (s.initial.target, s.initial.q_BN_frame):
+        problems.append("initial: target or q_BN_frame 'snr' needs the on-board ephemeris (fsw.ephemeris), "
+                        "which this spacecraft does not have")
+    try:
+        make_torque_filter_params(sc.fsw.torque_filters, cycle)
+    except ValueError as err:   # a filter that cannot be built at this control rate
+        problems.append(f"fsw.{err}")
     known = names_for(sc)
     for i, f in enumerate(s.output.fields or []):
         if f not in known:

@@ -22,6 +22,7 @@ from sim.fsw.wheel_bias import WheelBiasParams, make_wheel_bias_params
 from sim.fsw.targeting import update_target
 from sim.fsw.torque_filter import make_torque_filter_state
 from sim.modes import Mode
+from sim.spacecraft.fsw_models import OnboardEphemeris
 
 ATTITUDE_OPTIONS = {"ekf": ekfmod.OPTION_EKF, "star_tracker": ekfmod.OPTION_STAR_TRACKER, "iru": ekfmod.OPTION_IRU}
 DEG_H = np.pi / 180.0 / 3600.0   # rad/s per deg/h
@@ -55,9 +56,9 @@ def _wheel_bias_params(sc) -> WheelBiasParams:
 
 def make_fsw_params(sc, uplink) -> FswParams:
     dt = sc.timing.control_dt_s
-    e = sc.fsw.ephemeris
-    every = round(e.sample_s / dt)
-    if every < 1 or abs(every * dt - e.sample_s) > 1e-9:
+    e = sc.fsw.ephemeris or OnboardEphemeris(srp_area_m2=0.0, cr=1.0)   # absent: built once, never stepped
+    every = round(e.sample_s / dt) if sc.fsw.ephemeris else 0
+    if sc.fsw.ephemeris and (every < 1 or abs(every * dt - e.sample_s) > 1e-9):
         raise ValueError(f"fsw.ephemeris.sample_s = {e.sample_s:g} s must be a whole number of control cycles "
                          f"({dt:g} s)")
     orbit = make_orbit_params(uplink.clock, uplink.dcm_CN, e.srp_area_m2, sc.mass_kg, e.cr)

@@ -198,15 +198,15 @@ def ekf_update_dss(s, p, sun_N, angles):
 
 
 @njit(cache=True, inline="always")
-def _clear_update_flags(s):
-    s.st_updated[:] = False
-    s.dss_updated[0] = False
+def _clear_update_flags(st_updated, dss_updated):
+    st_updated[:] = False
+    dss_updated[0] = False
 
 
 @njit(cache=True, inline="always")
-def _store_diagonal(s):
+def _store_diagonal(P, P_diag):
     for i in range(6):
-        s.P_diag[i] = s.P[i, i]
+        P_diag[i] = P[i, i]
 
 
 @njit(cache=True, inline="always")
@@ -215,7 +215,7 @@ def ekf_cycle(s, p, rate_meas_B, st_q_SN, st_valid, sun_N, dss_angles, dss_valid
     tracker, then the DSS. Returns the number of sensors used; their
     innovations are in s.st_innov / s.dss_innov, P's diagonal in s.P_diag."""
     ekf_propagate(s, p, rate_meas_B)
-    _clear_update_flags(s)
+    _clear_update_flags(s.st_updated, s.dss_updated)
     n_used = 0
     for k in range(st_q_SN.shape[0]):
         if st_valid[k] and s.st_use[k]:
@@ -226,24 +226,24 @@ def ekf_cycle(s, p, rate_meas_B, st_q_SN, st_valid, sun_N, dss_angles, dss_valid
         ekf_update_dss(s, p, sun_N, dss_angles)
         s.dss_updated[0] = True
         n_used += 1
-    _store_diagonal(s)
+    _store_diagonal(s.P, s.P_diag)
     return n_used
 
 
 @njit(cache=True, inline="always")
-def _tracker_covariance(s, p, k):
+def _tracker_covariance(P, st_q_BS, st_sigma_S, k):
     """After flying tracker k: the attitude block is that tracker's noise
     in body axes, dcm_BS diag(sigma_S^2) dcm_SB, uncorrelated with the bias,
     so a filter switched on next starts from what it actually knows."""
-    dcm_BS = quat_to_dcm(p.st_q_BS[k])
+    dcm_BS = quat_to_dcm(st_q_BS[k])
     for i in range(3):
         for j in range(3):
             acc = 0.0
             for m in range(3):
-                acc += dcm_BS[i, m] * p.st_sigma_S[k, m] * p.st_sigma_S[k, m] * dcm_BS[j, m]
-            s.P[i, j] = acc
-            s.P[i, 3 + j] = 0.0
-            s.P[3 + j, i] = 0.0
+                acc += dcm_BS[i, m] * st_sigma_S[k, m] * st_sigma_S[k, m] * dcm_BS[j, m]
+            P[i, j] = acc
+            P[i, 3 + j] = 0.0
+            P[3 + j, i] = 0.0
 
 
 @njit(cache=True, inline="always")
@@ -258,12 +258,15 @@ def attitude_cycle(option, st_index, s, p, rate_meas_B, st_q_SN, st_valid, sun_N
     Returns the number of sensors used (0 or 1 with the filter off)."""
     if option == OPTION_EKF:
         return ekf_cycle(s, p, rate_meas_B, st_q_SN, st_valid, sun_N, dss_angles, dss_valid)
-    _clear_update_flags(s)
-    ekf_propagate(s, p, rate_meas_B)
-    n_used = 0
+    _clear_update_flags(s.st_updated, s.dss_updated)
     if option == OPTION_STAR_TRACKER and st_valid[st_index]:
+        # the tracker overwrites both the estimate and P: nothing to propagate
+        for i in range(3):
+            s.omega_est_B[i] = rate_meas_B[i] - s.bias_B[i]
         s.q_est_BN[:] = body_from_tracker(st_q_SN[st_index], p.st_q_BS[st_index])
-        _tracker_covariance(s, p, st_index)
-        n_used = 1
-    _store_diagonal(s)
-    return n_used
+        _tracker_covariance(s.P, p.st_q_BS, p.st_sigma_S, st_index)
+        _store_diagonal(s.P, s.P_diag)
+        return 1
+    ekf_propagate(s, p, rate_meas_B)
+    _store_diagonal(s.P, s.P_diag)
+    return 0

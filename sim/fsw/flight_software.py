@@ -108,6 +108,8 @@ class FlightSoftware:
             return f"{cmd.type} is not legal in {self.mode.name}; legal in: {legal}"
         if isinstance(cmd, SetAttitudeOption) and cmd.star_tracker > len(self.sc.star_trackers):
             return f"star_tracker {cmd.star_tracker}: this spacecraft has {len(self.sc.star_trackers)} tracker(s)"
+        if isinstance(cmd, SetTargetSnr) and self.sc.fsw.ephemeris is None:
+            return "set_target_snr needs the on-board ephemeris, and this spacecraft has none (fsw.ephemeris)"
         n_gt = len(self.sc.sensors.guide_telescopes.units) if self.sc.sensors.guide_telescopes else 0
         if isinstance(cmd, SelectCgt) and cmd.cgt > n_gt:
             return f"cgt {cmd.cgt}: this spacecraft has {n_gt} guide telescope(s)"

@@ -38,49 +38,51 @@ def gt_biases(q_BG_list, misalignment_arcsec_list) -> np.ndarray:
     return out
 
 
+# The kernels below take arrays, not the state and parameter records: every
+# record handed to a function, inlined or not, costs a reference count per
+# array it holds (docs/architecture.md "Inlined kernels"), and the records
+# hold dozens.
+
 @njit(cache=True, inline="always")
-def cgt_errors_B(rec, s, p):
-    """The CGT's eq. (4) pitch and yaw errors [theta_y, theta_z] (rad) into
-    s.cgt_err_B, and whether the CGT is usable (valid and in its fine range)."""
-    k = s.cgt[0]
+def cgt_errors_B(rec, k, sci, out_err_B):
+    """CGT k's eq. (4) pitch and yaw errors [theta_y, theta_z] (rad) into
+    out_err_B, and whether it is usable (valid and in its fine range)."""
     if k >= rec.gt_valid.shape[0]:
         return False    # a spacecraft without guide telescopes
     ok = rec.gt_valid[k] and rec.gt_in_range[k]
-    ey = rec.gt_offset_G_rad[k, 0] + p.sci.gt_bias_G[k, 0]
-    ez = rec.gt_offset_G_rad[k, 1] + p.sci.gt_bias_G[k, 1]
-    d = p.sci.dcm_BG[k]
+    ey = rec.gt_offset_G_rad[k, 0] + sci.gt_bias_G[k, 0]
+    ez = rec.gt_offset_G_rad[k, 1] + sci.gt_bias_G[k, 1]
+    d = sci.dcm_BG[k]
     sy = d[1, 1] * ey + d[1, 2] * ez     # [0, ey, ez] carried into body axes
     sz = d[2, 1] * ey + d[2, 2] * ez
-    s.cgt_err_B[0] = sz
-    s.cgt_err_B[1] = -sy
+    out_err_B[0] = sz
+    out_err_B[1] = -sy
     return ok
 
 
 @njit(cache=True, inline="always")
-def commanded_offset_yz(s):
+def commanded_offset_yz(target, dq_RS):
     """Pitch and yaw of the commanded SNR delta target, rad (zero otherwise)."""
-    if s.target[0] == TARGET_SNR_DELTA:
-        phi = small_angle_error(s.dq_RS)
+    if target == TARGET_SNR_DELTA:
+        phi = small_angle_error(dq_RS)
         return phi[1], phi[2]
     return 0.0, 0.0
 
 
 @njit(cache=True, inline="always")
-def science_errors(s, theta_quat):
-    """Seed 001 eq. (4) from s.cgt_err_B, with roll from the quaternion error
-    theta_quat, into s.theta_e."""
-    oy, oz = commanded_offset_yz(s)
-    s.theta_e[0] = theta_quat[0]
-    s.theta_e[1] = s.cgt_err_B[0] + oy
-    s.theta_e[2] = s.cgt_err_B[1] + oz
+def science_errors(cgt_err_B, offset_y, offset_z, theta_quat, out_theta_e):
+    """Seed 001 eq. (4) from the CGT errors plus the commanded offset, with
+    roll from the quaternion error theta_quat."""
+    out_theta_e[0] = theta_quat[0]
+    out_theta_e[1] = cgt_err_B[0] + offset_y
+    out_theta_e[2] = cgt_err_B[1] + offset_z
 
 
 @njit(cache=True, inline="always")
-def science_acquired(s, p, cgt_ok):
+def science_acquired(autonomy, target, cgt_ok, cgt_err_B, offset_y, offset_z, acq_range_rad):
     """Inertial's hand-over test: autonomy on, a Sun-referenced target, and
     the CGT usable with both errors (less the commanded offset) inside the
     acquisition range."""
-    if not (s.autonomy[0] and cgt_ok) or s.target[0] > TARGET_SNR_DELTA:
+    if not (autonomy and cgt_ok) or target > TARGET_SNR_DELTA:
         return False
-    oy, oz = commanded_offset_yz(s)
-    return abs(s.cgt_err_B[0] + oy) < p.sci.acq_range_rad and abs(s.cgt_err_B[1] + oz) < p.sci.acq_range_rad
+    return abs(cgt_err_B[0] + offset_y) < acq_range_rad and abs(cgt_err_B[1] + offset_z) < acq_range_rad

@@ -23,13 +23,18 @@ def update_target(s, p):
     s.q_RN[:] = target_quat(s.target[0], s.q_SN, s.dq_RS, s.q_RN_cmd)
 
 
+@njit(cache=True)
+def ephemeris_sample(s, p):
+    """One sample of the task, then the target. Out of line on purpose: it
+    runs once a second, and a call that takes the records costs a reference
+    count per array only when it is made."""
+    ephemeris_task_step(p.eph, s.eph)
+    update_target(s, p)
+
+
 @njit(cache=True, inline="always")
-def ephemeris_tick(s, p):
-    """On a sample cycle (cycle k at t = k dt, k a positive multiple of
-    eph_every; sample 0 is the task's initial state), run the task and refresh
-    the target; then count the cycle."""
-    k = s.cycle[0]
-    if k > 0 and k % p.eph_every == 0:
-        ephemeris_task_step(p.eph, s.eph)
-        update_target(s, p)
-    s.cycle[0] = k + 1
+def is_sample_cycle(k, eph_every):
+    """Cycle k (t = k dt) samples the task when k is a positive multiple of
+    eph_every (sample 0 is the task's initial state); eph_every = 0: no
+    on-board ephemeris, the target and Sun direction stay those of t = 0."""
+    return eph_every > 0 and k > 0 and k % eph_every == 0

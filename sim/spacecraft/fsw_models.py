@@ -63,7 +63,8 @@ class Fsw(Strict):
         "ekf", description="attitude determination at start: the Kalman filter, a star tracker, IRU propagation")
     star_tracker: int = Field(0, ge=0, description="index of the star tracker flown by option star_tracker")
     ekf: EkfSetup
-    ephemeris: OnboardEphemeris
+    ephemeris: OnboardEphemeris | None = Field(
+        None, description="the on-board ephemeris task; absent: no SNR targeting, no Sun reference for a DSS")
     inertial: InertialControl
     science: ScienceControl
     wheel_bias: WheelBias | None = Field(None, description="absent: no zero-speed avoidance")
