@@ -33,11 +33,18 @@ import math
 from typing import Annotated, Any, Literal
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, field_validator, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    TypeAdapter,
+    field_validator,
+    model_validator,
+)
 
+from sim.attitude import ARCSEC_PER_RAD
 from sim.commands import SetTargetSnr, split_time_tag
 
-ARCSEC_PER_RAD = 180.0 / math.pi * 3600.0
 STEP_MIN_ARCSEC, STEP_MAX_ARCSEC = 5.0, 9000.0      # seed 000: slews "5 arcsec - 9000 arcsec"
 OFFPOINT_MAX_ARCSEC = 2.5 * 3600.0                   # seed 001: "up to 2.5 degrees in pitch and yaw"
 ALLOWANCE_MIN_S, ALLOWANCE_MAX_S = 120.0, 300.0      # seed 000: "slew time requirements (2 - 5 minutes)"

@@ -31,9 +31,9 @@ from sim.commands import (
 from sim.events import ERROR, INFO, WARNING, Event
 from sim.expectations import evaluate
 from sim.faults import describe as describe_fault
-from sim.attitude import dcm_to_quat, quat_mul
+from sim.attitude import quat_mul
 from sim.fsw.flight_software import FlightSoftware
-from sim.fsw.snr import SOLAR_POLE_N, snr_dcm_NS
+from sim.fsw.snr import SOLAR_POLE_N, snr_quat_from_sun
 from sim.fsw.state import EVENT_SLEW_SETTLED
 from sim.loop import advance
 from sim.records import empty_actuator_command, empty_sensor_record
@@ -50,7 +50,7 @@ def truth_snr_quat(ts, tp) -> np.ndarray:
     """The SNR frame at t = 0 from the truth's apparent Sun (for initial
     attitudes given relative to it)."""
     set_environment(ts, tp, 0.0)
-    return dcm_to_quat(snr_dcm_NS(apparent_sun_N(ts, tp), SOLAR_POLE_N))
+    return snr_quat_from_sun(apparent_sun_N(ts, tp), SOLAR_POLE_N)
 
 
 class Listener:

@@ -16,7 +16,6 @@ from sim.fsw.ekf import (
     ekf_initial_state,
     ekf_params_from_spacecraft,
 )
-from sim.fsw.estimation import SOURCE_IRU, SOURCE_STAR_TRACKER
 
 SC, SP = tb.sdo_sensors()
 P = ekf_params_from_spacecraft(SC)
@@ -52,12 +51,6 @@ class Sensors:
 
     def args(self):
         return self.st_q_SN, self.st_valid, tb.SUN_N, self.dss_angles, self.dss_valid
-
-
-def test_option_codes_extend_the_existing_estimate_sources():
-    """The mode logic can keep estimation.py's codes for the two EKF-off options."""
-    assert (OPTION_STAR_TRACKER, OPTION_IRU) == (SOURCE_STAR_TRACKER, SOURCE_IRU)
-    assert OPTION_EKF not in (SOURCE_STAR_TRACKER, SOURCE_IRU)
 
 
 def test_fly_a_star_tracker():

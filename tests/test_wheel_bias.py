@@ -130,7 +130,7 @@ def _run(h0, minutes, bias=True, drag=True):
         assert np.max(np.abs(u)) <= LIMIT_SW   # within the limit: distribute would not scale it
         u_att = u.copy()
         if bias:
-            wheel_bias_cycle(w, ALL_VALID, P, LIMIT_SW, u)
+            wheel_bias_cycle(w, ALL_VALID, P, LIMIT_SW, u, np.empty(4))
         h += (u + d) * DT
         hist.append(h.copy())
         u_hist.append((u_att, u))
@@ -190,7 +190,7 @@ def test_invalid_tach_gives_zero_and_cycle_leaves_command_alone():
         assert c == 0.0 and np.all(u == 0.0)
         u_cmd = np.array([0.1, -0.05, 0.02, 0.0])
         u_out = u_cmd.copy()
-        wheel_bias_cycle(SEED000_H / J, valid, P, LIMIT_SW, u_out)
+        wheel_bias_cycle(SEED000_H / J, valid, P, LIMIT_SW, u_out, np.empty(4))
         assert np.all(u_out == u_cmd)
 
 

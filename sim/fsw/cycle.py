@@ -104,7 +104,6 @@ def fsw_cycle(rec, s, p, act):
         s.torque_cmd_B[:] = 0.0
     s.torque_undelivered_B[:] = distribute(s.torque_cmd_B, p.dist, p.torque_limit, act.wheel_torque_Nm)
     if mode_uses_wheels(s.mode[0]) and p.wb.limit_Nm > 0.0:
-        s.wheel_bias_Nm[:] = act.wheel_torque_Nm
-        wheel_bias_cycle(rec.tach_speed_rad_s, rec.tach_valid, p.wb, p.torque_limit, act.wheel_torque_Nm)
-        s.wheel_bias_Nm[:] = act.wheel_torque_Nm - s.wheel_bias_Nm
+        wheel_bias_cycle(rec.tach_speed_rad_s, rec.tach_valid, p.wb, p.torque_limit, act.wheel_torque_Nm,
+                         s.wheel_bias_Nm)
     return event

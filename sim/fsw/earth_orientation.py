@@ -31,7 +31,8 @@ import math
 import numpy as np
 from numba import njit
 
-ARCSEC_RAD = math.pi / (180.0 * 3600.0)
+from sim.constants import ARCSEC_RAD
+
 TWO_PI = 2.0 * math.pi
 # IERS 2010 eq. 5.15
 ERA_AT_J2000_TURNS = 0.7790572732640

@@ -35,17 +35,28 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from sim.attitude import quat_from_rotvec, quat_mul, quat_normalize, quat_propagate, quat_to_dcm
-from sim.fsw.ekf_measurements import dss_residual, dss_sigma, scalar_update, star_tracker_residual
+from sim.attitude import (
+    quat_conj,
+    quat_from_rotvec,
+    quat_mul,
+    quat_normalize,
+    quat_propagate,
+    quat_to_dcm,
+)
+from sim.constants import ARCSEC_RAD as ARCSEC
+from sim.fsw.ekf_measurements import (
+    dss_residual,
+    dss_sigma,
+    scalar_update,
+    star_tracker_residual,
+)
 from sim.fsw.ekf_propagation import propagate_covariance, transition_and_noise
-from sim.fsw.estimation import SOURCE_IRU, SOURCE_STAR_TRACKER, body_from_tracker
 
-# Options by ground command; the two EKF-off options keep estimation.py's codes.
-OPTION_STAR_TRACKER = SOURCE_STAR_TRACKER   # fly the selected tracker's quaternion
-OPTION_IRU = SOURCE_IRU                     # propagate with the IRU rates
+# Options by ground command.
+OPTION_STAR_TRACKER = 0                     # fly the selected tracker's quaternion
+OPTION_IRU = 1                              # propagate with the IRU rates
 OPTION_EKF = 2                              # the Kalman filter (seed 001: the default in Inertial mode)
 
-ARCSEC = np.pi / 180.0 / 3600.0
 ARCMIN = np.pi / 180.0 / 60.0
 
 # work_66 slots
@@ -141,6 +152,12 @@ def ekf_initial_state(q_BN, n_star_trackers, sigma_attitude_rad, sigma_bias_rad_
                     np.diag(P).copy(), np.ones(n, dtype=np.bool_), np.array([bool(use_dss)]), np.zeros((n, 3)),
                     np.zeros((n, 3)), np.zeros(n, dtype=np.bool_), np.zeros(2), np.zeros(2),
                     np.zeros(1, dtype=np.bool_), np.zeros(6), np.zeros(6), np.zeros((3, 3)), np.zeros((3, 6, 6)))
+
+
+@njit(cache=True)
+def body_from_tracker(q_SN, q_BS):
+    """q_BN = q_SN (x) q_BS^* : the tracker's attitude carried back to the body."""
+    return quat_mul(q_SN, quat_conj(q_BS))
 
 
 @njit(cache=True, inline="always")

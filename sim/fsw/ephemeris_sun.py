@@ -38,11 +38,9 @@ import math
 import numpy as np
 from numba import njit
 
-from sim.fsw.earth_orientation import ARCSEC_RAD, ecliptic_of_date_to_gci
+from sim.constants import ARCSEC_RAD, AU_M, C_LIGHT_M_S
+from sim.fsw.earth_orientation import ecliptic_of_date_to_gci
 from sim.fsw.onboard_time import DAYS_PER_JULIAN_CENTURY, tt_days_j2000
-
-AU_M = 149597870700.0        # IAU 2012 Resolution B2
-C_LIGHT_M_S = 299792458.0    # exact (SI)
 
 # Meeus Appendix III, Earth: rows (A, B rad, C rad per Julian millennium), A in 1e-8 rad (L, B) or 1e-8 au (R).
 _L0 = ((175347046.0, 0.0, 0.0), (3341656.0, 4.6692568, 6283.07585), (34894.0, 4.6261, 12566.1517),

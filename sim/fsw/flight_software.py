@@ -59,8 +59,6 @@ class FlightSoftware:
         g = sc.fsw.inertial
         self.slew_rate_rad_s = g.kp_per_s2 / g.kd_per_s * g.attitude_limit_rad   # the limiter's steady slew rate
         self.slew_allowance_s = sc.fsw.slew_allowance_s
-        self.mode_prev = mode
-        self.mode_cause = GROUND
         self.transitions: list[Transition] = []
 
     @property
@@ -86,7 +84,6 @@ class FlightSoftware:
         elif new == Mode.SCIENCE:
             preload_torque_filter(s.tf, self.params.tf, BANK_SCIENCE, s.torque_int_B)
         s.mode[0] = int(new)
-        self.mode_prev, self.mode_cause = old, cause
         self.transitions.append(Transition(old, new, cause, why))
         return ""
 

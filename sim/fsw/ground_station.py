@@ -18,11 +18,10 @@ import math
 import numpy as np
 from numba import njit
 
+from sim.constants import WGS84_A_M, WGS84_INV_F
 from sim.fsw.earth_orientation import earth_rotation_angle_rad
 from sim.fsw.onboard_time import ut1_days_j2000
 
-WGS84_A_M = 6378137.0
-WGS84_INV_F = 298.257223563
 WGS84_E2 = (2.0 - 1.0 / WGS84_INV_F) / WGS84_INV_F     # e^2 = f (2 - f)
 
 # Assumption: the public location of NASA's White Sands Complex (Las Cruces, NM),

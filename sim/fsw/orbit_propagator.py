@@ -38,22 +38,14 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from sim import constants as K
+from sim.constants import AU_M, P_SUN_1AU_N_M2
 from sim.fsw.earth_orientation import earth_rotation_angle_rad
 from sim.fsw.ephemeris_moon import moon_position_tt_N
-from sim.fsw.ephemeris_sun import AU_M, sun_position_tt_N
+from sim.fsw.ephemeris_sun import sun_position_tt_N
 from sim.fsw.onboard_time import OnboardClock, tt_days_j2000, ut1_days_j2000
 
-MU_EARTH_M3_S2 = 3.986004418e14
-R_EQ_M = 6378136.3
-J2 = 0.484165143790815e-3 * math.sqrt(5.0)
-J3 = -0.957161207093473e-6 * math.sqrt(7.0)
-J4 = -0.539965866638991e-6 * 3.0
-C22 = 0.243938357328313e-5 * math.sqrt(10.0 / 24.0)
-S22 = -0.140027370385934e-5 * math.sqrt(10.0 / 24.0)
-MU_SUN_M3_S2 = 1.32712442099e20
-MU_MOON_M3_S2 = 0.0123000371 * MU_EARTH_M3_S2
-P_SUN_1AU_N_M2 = 4.56e-6
-R_EARTH_SHADOW_M = 6378137.0   # WGS84 equatorial radius
+R_EARTH_SHADOW_M = K.WGS84_A_M
 
 
 class OrbitModelParams(NamedTuple):
@@ -79,8 +71,8 @@ def make_orbit_params(clock: OnboardClock, dcm_CN, srp_area_m2: float, mass_kg: 
         raise ValueError("dcm_CN must be a 3 x 3 rotation matrix (GCI -> celestial intermediate)")
     if not (srp_area_m2 >= 0.0 and mass_kg > 0.0 and 0.0 <= cr <= 2.0):
         raise ValueError(f"need srp_area_m2 >= 0, mass_kg > 0, 0 <= cr <= 2; got {srp_area_m2}, {mass_kg}, {cr}")
-    return OrbitModelParams(clock, dcm, MU_EARTH_M3_S2, R_EQ_M, J2, J3, J4, C22, S22, MU_SUN_M3_S2,
-                            MU_MOON_M3_S2, float(srp_area_m2), float(mass_kg), float(cr))
+    return OrbitModelParams(clock, dcm, K.MU_EARTH_M3_S2, K.R_EQ_EGM2008_M, K.J2, K.J3, K.J4, K.C22, K.S22,
+                            K.MU_SUN_M3_S2, K.MU_MOON_M3_S2, float(srp_area_m2), float(mass_kg), float(cr))
 
 
 @njit(cache=True)

@@ -22,9 +22,8 @@ import numpy as np
 from numba import njit
 
 from sim.attitude import mounting_dcm_XB, small_angle_error
+from sim.constants import ARCSEC_RAD as ARCSEC
 from sim.fsw.snr import TARGET_SNR_DELTA
-
-ARCSEC = np.pi / 180.0 / 3600.0
 
 
 def gt_biases(q_BG_list, misalignment_arcsec_list) -> np.ndarray:

@@ -72,10 +72,16 @@ def snr_dcm_NS(sun_apparent_N, pole_N):
 
 
 @njit(cache=True)
+def snr_quat_from_sun(sun_apparent_N, pole_N):
+    """q_SN, the SNR frame's attitude in GCI, from the apparent Sun unit vector."""
+    return dcm_to_quat(snr_dcm_NS(sun_apparent_N, pole_N))
+
+
+@njit(cache=True)
 def snr_quat(sun_N_m, r_sc_N_m, v_sc_bary_N_m_s, pole_N):
-    """q_SN, the SNR frame's attitude in GCI, from the geocentric Sun and
-    spacecraft positions and the spacecraft's barycentric velocity."""
-    return dcm_to_quat(snr_dcm_NS(apparent_sun_unit_N(sun_N_m, r_sc_N_m, v_sc_bary_N_m_s), pole_N))
+    """q_SN from the geocentric Sun and spacecraft positions and the
+    spacecraft's barycentric velocity."""
+    return snr_quat_from_sun(apparent_sun_unit_N(sun_N_m, r_sc_N_m, v_sc_bary_N_m_s), pole_N)
 
 
 @njit(cache=True)

@@ -8,9 +8,8 @@ target is held: the Sun moves 0.04 arcsec per second across the sky.
 """
 from numba import njit
 
-from sim.attitude import dcm_to_quat
 from sim.fsw.ephemeris_task import SPACECRAFT, SUN, ephemeris_task_step, observer_bary_velocity_N
-from sim.fsw.snr import apparent_sun_unit_N, snr_dcm_NS, target_quat
+from sim.fsw.snr import apparent_sun_unit_N, snr_quat_from_sun, target_quat
 
 
 @njit(cache=True, inline="always")
@@ -19,7 +18,7 @@ def update_target(s, p):
     e = s.eph
     sun = apparent_sun_unit_N(e.pos_N_m[SUN], e.pos_N_m[SPACECRAFT], observer_bary_velocity_N(e))
     s.sun_N[:] = sun
-    s.q_SN[:] = dcm_to_quat(snr_dcm_NS(sun, p.pole_N))
+    s.q_SN[:] = snr_quat_from_sun(sun, p.pole_N)
     s.q_RN[:] = target_quat(s.target[0], s.q_SN, s.dq_RS, s.q_RN_cmd)
 
 

@@ -249,16 +249,18 @@ def add_wheel_bias(u_att, u_bias, limit_Nm, out_u):
 
 
 @njit(cache=True, inline="always")
-def wheel_bias_cycle(tach_rad_s, tach_valid, p, torque_limit_Nm, u_inout):
+def wheel_bias_cycle(tach_rad_s, tach_valid, p, torque_limit_Nm, u_inout, out_bias):
     """One control cycle: wheel momenta J_s omega from the tachometers, the
     bias torque, added to the distributed wheel torques u_inout in place within
-    the software limit. Returns c*, the null-space shift still wanted, N m s."""
+    the software limit; out_bias gets the part added (for telemetry). Returns
+    c*, the null-space shift still wanted, N m s."""
     m = tach_rad_s.shape[0]
     h = np.empty(m)
     for i in range(m):
         h[i] = p.spin_inertia_kgm2 * tach_rad_s[i]
-    u_bias = np.empty(m)
     c_star = wheel_bias_torque(h, tach_valid, p.null_B, p.gain_per_s, p.limit_Nm, p.h_target_Nms, p.h_cap_Nms,
-                               u_bias)
-    add_wheel_bias(u_inout, u_bias, torque_limit_Nm, u_inout)
+                               out_bias)
+    scale = add_wheel_bias(u_inout, out_bias, torque_limit_Nm, u_inout)
+    for i in range(m):
+        out_bias[i] *= scale
     return c_star

@@ -7,20 +7,27 @@ from datetime import datetime
 
 import numpy as np
 
+from sim.constants import ARCSEC_RAD as ARCSEC
 from sim.spacecraft.definition import Spacecraft
-from sim.truth import dynamics, plant
+from sim.truth import dynamics, plant, sensor_suite
 from sim.truth.disturbances import SrpParams
 from sim.truth.ephemeris import build_table
 from sim.truth.gravity import make_gravity_params
 from sim.truth.mass import make_mass_params
 from sim.truth.orbit import OrbitElements, sdo_orbit
 from sim.truth.rigid_body import make_wheel_params
-from sim.truth import sensor_suite
 from sim.truth.sensor_suite import SensorParams, SensorStates
-from sim.truth.sensors import css, dss, guide_telescope, iru_units, star_tracker, star_tracker_exclusion, tachometer
+from sim.truth.sensors import (
+    css,
+    dss,
+    guide_telescope,
+    iru_units,
+    star_tracker,
+    star_tracker_exclusion,
+    tachometer,
+)
 from sim.truth.thrusters import LBF_N, EngineParams, ThrusterParams
 
-ARCSEC = np.pi / 180.0 / 3600.0
 EPHEMERIS_STEP_S = 600.0  # cubic Hermite on 600 s nodes: < 1 m for Sun and Moon (tests/test_environment.py)
 
 

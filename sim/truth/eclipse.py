@@ -27,9 +27,10 @@ import math
 
 from numba import njit
 
-R_EARTH_M = 6378137.0    # WGS84 equatorial radius (NIMA TR8350.2, Table 3.1)
+from sim.constants import C_LIGHT_M_S, WGS84_A_M
+
+R_EARTH_M = WGS84_A_M    # WGS84 equatorial radius
 R_SUN_M = 6.96e8         # M&G sec. 3.4.2 (IAU 2015 nominal: 6.957e8)
-C_LIGHT_M_S = 299792458.0
 
 
 @njit(cache=True)

@@ -27,6 +27,7 @@ import numpy as np
 from numba import njit
 
 from sim.attitude import mounting_dcm_XB
+from sim.constants import ARCSEC_RAD as ARCSEC
 from sim.truth.sensors.sensor_geometry import (
     direction_in_sensor,
     off_boresight_angle,
@@ -37,7 +38,6 @@ N_TELESCOPES = 4
 N_NOISE = 2 * N_TELESCOPES         # S_y, S_z per telescope
 FAULT_FAILED = 0
 N_FAULT_SLOTS = 1
-ARCSEC = np.pi / 180.0 / 3600.0
 
 
 class GuideTelescopeParams(NamedTuple):
