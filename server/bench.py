@@ -23,6 +23,7 @@ REPO = Path(__file__).resolve().parent.parent
 HOLD_SCENARIO = REPO / "scenarios" / "sdo_inertial_hold.yaml"
 SLEW_SCENARIO = REPO / "scenarios" / "sdo_inertial_slew.yaml"
 SCIENCE_SCENARIO = REPO / "scenarios" / "sdo_science_day.yaml"
+DELTAV_SCENARIO = REPO / "scenarios" / "sdo_deltav_main_engine.yaml"
 
 
 def basilisk_mirror() -> dict:
@@ -89,8 +90,17 @@ def sdo_science() -> dict:
     return data
 
 
+def sdo_deltav() -> dict:
+    """The 50-min main-engine burn of seed 001 Fig. 6 (sdo_deltav_main_engine):
+    thrusters on-pulsing at 50 ms resolution (four RK4 steps per 0.2 s cycle),
+    propellant draining, IRU-propagated attitude, recorded at 1 Hz."""
+    data = yaml.safe_load(DELTAV_SCENARIO.read_text())
+    data.update(name="sdo-deltav", expect=[])
+    return data
+
+
 BENCHMARKS = {"basilisk-mirror": basilisk_mirror, "sdo-inertial": sdo_inertial, "sdo-truth": sdo_truth,
-              "sdo-science": sdo_science}
+              "sdo-science": sdo_science, "sdo-deltav": sdo_deltav}
 
 
 def time_ours(data: dict) -> tuple[float, float, float]:

@@ -11,11 +11,21 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Annotated, ClassVar, Literal, Union
 
-from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, field_validator
+from pydantic import (
+    AfterValidator,
+    BaseModel,
+    ConfigDict,
+    Field,
+    TypeAdapter,
+    model_validator,
+)
 
 from sim.faults import Fault
 from sim.modes import Mode
 from sim.spacecraft.model import Quat, check_unit_quaternion
+
+# a quaternion field that must be unit (the check names the norm it found)
+UnitQuat = Annotated[Quat, AfterValidator(check_unit_quaternion)]
 
 
 class CommandBase(BaseModel):
@@ -27,13 +37,8 @@ class CommandBase(BaseModel):
 class SetTargetQuaternion(CommandBase):
     """Slew to, and hold, an inertially fixed (GCI) target attitude q_RN."""
     type: Literal["set_target_quaternion"] = "set_target_quaternion"
-    q_RN: Quat = Field(description="target attitude of the reference frame R in GCI, scalar-first [w, x, y, z]")
+    q_RN: UnitQuat = Field(description="target attitude of the reference frame R in GCI, scalar-first [w, x, y, z]")
     legal_modes: ClassVar = (Mode.INERTIAL,)
-
-    @field_validator("q_RN")
-    @classmethod
-    def _unit(cls, q: Quat) -> Quat:
-        return check_unit_quaternion(q)
 
 
 class ResetIntegrator(CommandBase):
@@ -48,14 +53,9 @@ class SetTargetSnr(CommandBase):
     times a delta quaternion that points the spacecraft away from it by a
     known angle (calibration maneuvers). Identity: the default science target."""
     type: Literal["set_target_snr"] = "set_target_snr"
-    delta_q: Quat = Field((1.0, 0.0, 0.0, 0.0),
+    delta_q: UnitQuat = Field((1.0, 0.0, 0.0, 0.0),
                           description="delta quaternion q_RS of the target R in the SNR frame S, [w, x, y, z]")
     legal_modes: ClassVar = (Mode.INERTIAL, Mode.SCIENCE)
-
-    @field_validator("delta_q")
-    @classmethod
-    def _unit(cls, q: Quat) -> Quat:
-        return check_unit_quaternion(q)
 
 
 class SetAttitudeOption(CommandBase):
@@ -83,11 +83,97 @@ class SelectCgt(CommandBase):
     legal_modes: ClassVar = tuple(Mode)
 
 
+class DeltaHArgs(BaseModel):
+    """What DeltaH needs on entry: the wheel targets (seed 001 "DeltaH": "drive
+    the reaction wheels to a desired wheel speed"), and the tip-off
+    contingency flag (K_p / 10, rate nulling)."""
+    model_config = ConfigDict(extra="forbid", frozen=True)
+    wheel_momentum_Nms: list[float] | None = Field(
+        None, description="target momentum of each wheel, N m s (or give wheel_speed_rpm; neither: all zero)")
+    wheel_speed_rpm: list[float] | None = Field(None, description="target speed of each wheel, rpm")
+    tipoff: bool = Field(False, description="launch-vehicle separation contingency: K_p / 10")
+
+    @model_validator(mode="after")
+    def _one_target(self):
+        if self.wheel_momentum_Nms is not None and self.wheel_speed_rpm is not None:
+            raise ValueError("give wheel_momentum_Nms or wheel_speed_rpm, not both")
+        return self
+
+
+class DeltaVArgs(BaseModel):
+    """The four things DeltaV entry needs (seed 001 "DeltaV": "(1) desired
+    attitude target for DeltaV burn, (2) burn duration, including any settling
+    burn length, (3) whether the main engine will be used, and (4) desired set
+    of thrusters")."""
+    model_config = ConfigDict(extra="forbid", frozen=True)
+    target_q_RN: UnitQuat = Field(description="burn attitude, GCI, scalar-first [w, x, y, z]")
+    duration_s: float = Field(gt=0, le=6 * 3600, description="burn length including the settling burn, s",
+                              examples=[60.0])
+    main_engine: bool = Field(description="true: main engine (after the settling burn); false: ACS thrusters only")
+    thruster_set: Literal["primary", "redundant"] = Field("primary", description="ACS thruster set")
+
+
+MODE_NAMES = Literal["SUNACQ", "INERTIAL", "SCIENCE", "DELTAH", "DELTAV", "SAFEHOLD"]
+
+
 class SetMode(CommandBase):
-    """Command a mode transition; refused with a reason when the transition
-    is not allowed from the current mode."""
+    """Command a mode transition (a forced mode change: hazardous), refused
+    with a reason when the transition is not allowed from the current mode
+    (docs/modes.md). DELTAV needs `deltav`; DELTAH takes `deltah`."""
     type: Literal["set_mode"] = "set_mode"
-    mode: Literal["INERTIAL", "SCIENCE"] = Field(description="target mode")
+    mode: MODE_NAMES = Field(description="target mode")
+    deltah: DeltaHArgs | None = Field(None, description="DELTAH only: wheel targets, tip-off flag")
+    deltav: DeltaVArgs | None = Field(None, description="DELTAV only (required): the burn")
+    legal_modes: ClassVar = tuple(Mode)
+    hazardous: ClassVar = True
+
+    @model_validator(mode="after")
+    def _args_fit_mode(self):
+        if self.mode == "DELTAV" and self.deltav is None:
+            raise ValueError("mode DELTAV needs deltav: {target_q_RN, duration_s, main_engine, thruster_set}")
+        if self.deltav is not None and self.mode != "DELTAV":
+            raise ValueError(f"deltav is for mode DELTAV, not {self.mode}")
+        if self.deltah is not None and self.mode != "DELTAH":
+            raise ValueError(f"deltah is for mode DELTAH, not {self.mode}")
+        return self
+
+
+class StartDeltaH(CommandBase, DeltaHArgs):
+    """Start a momentum unload (DeltaH) from Inertial, or from SunAcq for the
+    tip-off contingency; it returns to that mode when done."""
+    type: Literal["start_deltah"] = "start_deltah"
+    legal_modes: ClassVar = (Mode.INERTIAL, Mode.SUNACQ)
+    hazardous: ClassVar = True
+
+
+class StartDeltaV(CommandBase, DeltaVArgs):
+    """Start a DeltaV burn from Inertial (ground command only)."""
+    type: Literal["start_deltav"] = "start_deltav"
+    legal_modes: ClassVar = (Mode.INERTIAL,)
+    hazardous: ClassVar = True
+
+
+class SetDeltaVTarget(CommandBase):
+    """Change the DeltaV attitude target during a burn (seed 001: "this target
+    may be changed during a maneuver")."""
+    type: Literal["set_deltav_target"] = "set_deltav_target"
+    q_RN: UnitQuat = Field(description="new burn attitude, GCI, [w, x, y, z]")
+    legal_modes: ClassVar = (Mode.DELTAV,)
+
+
+class SelectThrusterSet(CommandBase):
+    """Fly the primary or the redundant set of four ACS thrusters."""
+    type: Literal["select_thruster_set"] = "select_thruster_set"
+    thruster_set: Literal["primary", "redundant"] = Field(description="set of four thrusters")
+    legal_modes: ClassVar = tuple(Mode)
+    hazardous: ClassVar = True
+
+
+class SetFdcCheck(CommandBase):
+    """Enable or disable one failure-detection check."""
+    type: Literal["set_fdc_check"] = "set_fdc_check"
+    check: Literal["limits", "iru", "wheel", "star_tracker"] = Field(description="the check")
+    enabled: bool = Field(description="true: the check runs and responds")
     legal_modes: ClassVar = tuple(Mode)
 
 
@@ -109,7 +195,7 @@ class ClearFault(CommandBase):
 
 WORLD_COMMANDS = (InjectFault, ClearFault)  # handled by the runner, not the flight software
 _ALL = (SetTargetQuaternion, SetTargetSnr, ResetIntegrator, SetAttitudeOption, EnableScienceAutonomy, SelectCgt,
-        SetMode, InjectFault, ClearFault)
+        SetMode, StartDeltaH, StartDeltaV, SetDeltaVTarget, SelectThrusterSet, SetFdcCheck, InjectFault, ClearFault)
 Command = Annotated[Union[_ALL], Field(discriminator="type")]
 COMMAND_ADAPTER: TypeAdapter = TypeAdapter(Command)
 COMMAND_TYPES = {c.model_fields["type"].default: c for c in _ALL}

@@ -65,11 +65,27 @@ class CssFailed(FaultBase):
     eye: int = Field(ge=1, le=N_CSS_EYES, description="coarse Sun sensor eye, 1-16 (1-8 primary set)")
 
 
-Fault = Annotated[Union[WheelSeized, WheelDrag, IruStuck, IruBias, StarTrackerDropout, ThrusterFailedOff,
-                        ThrusterStuckOn, CssFailed], Field(discriminator="kind")]
-FAULT_KINDS = {c.model_fields["kind"].default: c for c in Fault.__origin__.__args__}
-
-
 def describe(f: FaultBase) -> str:
     args = ", ".join(f"{k} {v}" for k, v in f.model_dump(exclude={"kind"}).items())
     return f"{f.kind.replace('_', ' ')} ({args})"
+
+
+class ProcessorReset(FaultBase):
+    """The main processor resets: down for duration_s, then back up with the
+    ACE in Safehold (seed 001: Safehold runs in the ACE, apart from it)."""
+    kind: Literal["processor_reset"] = "processor_reset"
+    duration_s: float = Field(10.0, gt=0, le=3600, description="time the processor is down")
+
+
+class ProcessorFailed(FaultBase):
+    """The main processor stops until the fault is cleared."""
+    kind: Literal["processor_failed"] = "processor_failed"
+
+
+PROCESSOR_FAULTS = (ProcessorReset, ProcessorFailed)
+
+
+Fault = Annotated[Union[WheelSeized, WheelDrag, IruStuck, IruBias, StarTrackerDropout, ThrusterFailedOff,
+                        ThrusterStuckOn, CssFailed, ProcessorReset,
+                        ProcessorFailed], Field(discriminator="kind")]
+FAULT_KINDS = {c.model_fields["kind"].default: c for c in Fault.__origin__.__args__}

@@ -9,12 +9,13 @@ is here, in the runner's code: sim.truth and sim.fsw never meet otherwise.
 from numba import njit
 
 from sim.fsw.cycle import fsw_cycle
+from sim.fsw.safehold import ace_cycle
 from sim.records import copy_command
 from sim.truth.plant import propagate, sense, set_environment
 
 
 @njit(cache=True)
-def advance(n_cycles, cycle0, cycle_s, ts, tp, noise, noise_row, rec, s, fp, act_applied, act_new, delay):
+def advance(n_cycles, cycle0, cycle_s, ts, tp, noise, noise_row, rec, s, fp, ace, ap, act_applied, act_new, delay):
     """Run up to n_cycles from control cycle number cycle0; return (cycles run,
     last event code).
 
@@ -25,6 +26,12 @@ def advance(n_cycles, cycle0, cycle_s, ts, tp, noise, noise_row, rec, s, fp, act
         set_environment(ts, tp, (cycle0 + k) * cycle_s)
         sense(ts, tp, noise[noise_row + k], rec)
         event = fsw_cycle(rec, s, fp, act_new)
+        # the ACE runs beside the main processor and overrides it in Safehold
+        ace_event = ace_cycle(s.proc_up[0], rec.css_current_A, rec.iru_rate_ch_rad_s, rec.iru_ch_valid,
+                              rec.tach_speed_rad_s, ace, ap, act_new.wheel_torque_Nm, act_new.thruster_pulses,
+                              act_new.engine_on)
+        if event == 0:
+            event = ace_event
         if delay == 0:
             copy_command(act_new, act_applied)
         propagate(ts, tp, act_applied)

@@ -21,13 +21,35 @@ class Mode(IntEnum):
 GROUND, FDC, AUTONOMOUS = "ground", "fdc", "autonomous"
 CAUSES = (GROUND, FDC, AUTONOMOUS)
 
+M = Mode
 ALLOWED: dict[tuple[Mode, Mode], tuple[str, ...]] = {
-    (Mode.INERTIAL, Mode.SCIENCE): (GROUND, AUTONOMOUS),
-    (Mode.SCIENCE, Mode.INERTIAL): (GROUND, FDC),
+    # into Inertial: "All of the other main processor modes have the capability to enter this mode"
+    (M.SUNACQ, M.INERTIAL): (GROUND,),
+    (M.SCIENCE, M.INERTIAL): (GROUND, FDC),
+    (M.DELTAH, M.INERTIAL): (GROUND, FDC, AUTONOMOUS),
+    (M.DELTAV, M.INERTIAL): (GROUND, FDC, AUTONOMOUS),
+    # Science: autonomous with the autonomy flag, or commanded; out via Inertial, or to SunAcq/Safehold
+    (M.INERTIAL, M.SCIENCE): (GROUND, AUTONOMOUS),
+    (M.SCIENCE, M.SUNACQ): (GROUND, FDC),
+    # DeltaV: "strictly ground commanded" in
+    (M.INERTIAL, M.DELTAV): (GROUND,),
+    # DeltaH: from Inertial, or from SunAcq (tip-off contingency); back to where it came from
+    (M.INERTIAL, M.DELTAH): (GROUND,),
+    (M.SUNACQ, M.DELTAH): (GROUND,),
+    (M.DELTAH, M.SUNACQ): (GROUND, FDC, AUTONOMOUS),
+    # SunAcq as the main processor's coarse fallback (choice: docs/modes.md)
+    (M.INERTIAL, M.SUNACQ): (GROUND, FDC),
+    (M.DELTAV, M.SUNACQ): (FDC,),
+    # the ground brings the main processor back from Safehold through SunAcq (choice: docs/modes.md)
+    (M.SAFEHOLD, M.SUNACQ): (GROUND,),
 }
+# Safehold from every other mode by FDC or ground (seed 001 names Science -> Safehold; the rest: docs/modes.md)
+for _m in (M.SUNACQ, M.INERTIAL, M.SCIENCE, M.DELTAH, M.DELTAV):
+    ALLOWED[(_m, M.SAFEHOLD)] = (GROUND, FDC)
 
-# Modes whose flight software exists so far; the rest arrive with their issues.
-IMPLEMENTED = (Mode.INERTIAL, Mode.SCIENCE)
+IMPLEMENTED = tuple(Mode)
+# a run may start in these; the thruster modes need their entry command's arguments
+INITIAL_MODES = (Mode.SUNACQ, Mode.INERTIAL, Mode.SCIENCE, Mode.SAFEHOLD)
 
 
 def refusal(current: Mode, target: Mode, cause: str) -> str:

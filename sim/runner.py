@@ -9,12 +9,13 @@ everything to its listeners. Time is an integer count of control cycles
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
 import numpy as np
 
 from sim import fault_injection, telemetry, telemetry_fields
+from sim.attitude import quat_mul
 from sim.command_queue import CommandQueue
 from sim.commands import (
     ACCEPTED,
@@ -30,8 +31,8 @@ from sim.commands import (
 )
 from sim.events import ERROR, INFO, WARNING, Event
 from sim.expectations import evaluate
+from sim.faults import PROCESSOR_FAULTS, ProcessorReset
 from sim.faults import describe as describe_fault
-from sim.attitude import quat_mul
 from sim.fsw.flight_software import FlightSoftware
 from sim.fsw.snr import SOLAR_POLE_N, snr_quat_from_sun
 from sim.fsw.state import EVENT_SLEW_SETTLED
@@ -129,13 +130,15 @@ class Runner:
         # The flight software starts knowing the initial attitude and orbit (as if uplinked).
         gci_target = None if init.target == "snr" else (init.target_q_RN or q_BN)
         self.fsw = FlightSoftware(sc, make_uplink(scenario.epoch_utc, r0, v0), initial_mode(scenario), q_BN,
-                                  gci_target)
+                                  gci_target, propellant_kg=propellant)
 
         self.n_noise = sensor_suite.noise_per_cycle(self.truth_params.sensors)
         self._noise = np.empty((0, self.n_noise))
         self._noise_row = 0
         self._slew: tuple[CommandRecord, int, float] | None = None  # executing slew, deadline cycle, s allowed
         self._n_transitions = 0
+        self._n_fdc = 0
+        self._processor_up_cycle: int | None = None   # a processor reset ends here
 
         self.queue = CommandQueue(self._on_stage)
         self.emit(Event(0.0, INFO, "runner", "run", f"run start: {scenario.name} seed {self.seed}"))
@@ -165,10 +168,26 @@ class Runner:
         self.emit(Event(st.t_s, severity, "ground" if st.name == "queued" else handler, "command", msg,
                         {"id": rec.id, "stage": st.name}))
 
+    def _processor_fault(self, f, inject: bool) -> str:
+        """The main processor is flight hardware, not truth: the runner, which
+        holds both sides, switches it. It comes back with the ACE in charge."""
+        up = self.fsw.state.proc_up
+        if inject:
+            up[0] = False
+            self._processor_up_cycle = (self.cycle + self.cycle_at(f.duration_s) if isinstance(f, ProcessorReset)
+                                        else None)
+        else:
+            self._processor_up_cycle = None
+            up[0] = True
+        return ""
+
     def _apply_fault(self, rec: CommandRecord) -> None:
         cmd = rec.command
         inject = isinstance(cmd, InjectFault)
-        reason = fault_injection.apply(cmd.fault, self.truth, active=inject)
+        if isinstance(cmd.fault, PROCESSOR_FAULTS):
+            reason = self._processor_fault(cmd.fault, inject)
+        else:
+            reason = fault_injection.apply(cmd.fault, self.truth, active=inject)
         if reason:
             self.queue.stamp(rec, REJECTED, self.t_s, reason)
             return
@@ -216,8 +235,17 @@ class Runner:
             self._n_transitions += 1
             self.emit(Event(self.t_s, WARNING if tr.cause == "fdc" else INFO, "fsw", "mode", tr.describe(),
                             {"from": tr.old.name, "to": tr.new.name, "cause": tr.cause}))
+        while self._n_fdc < len(self.fsw.fdc_actions):
+            a = self.fsw.fdc_actions[self._n_fdc]
+            self._n_fdc += 1
+            self.emit(Event(self.t_s, WARNING, "fdc", "fdc", f"FDC {a.check}: {a.trigger}; response: {a.response}",
+                            {"check": a.check, "trigger": a.trigger, "response": a.response}))
 
     def _check_deadlines(self) -> None:
+        if self._processor_up_cycle is not None and self.cycle >= self._processor_up_cycle:
+            self._processor_up_cycle = None
+            self.fsw.state.proc_up[0] = True
+            self.emit(Event(self.t_s, WARNING, "fsw", "fault", "main processor back up after reset; ACE in Safehold"))
         if self._slew is not None and self.cycle >= self._slew[1]:
             self.fsw.stop_watching_slew()
             self.queue.stamp(self._slew[0], FAILED, self.t_s,
@@ -257,6 +285,8 @@ class Runner:
             stops.append(due)
         if self._slew is not None:
             stops.append(self._slew[1])
+        if self._processor_up_cycle is not None:
+            stops.append(self._processor_up_cycle)
         return max(min(stops), self.cycle + 1)
 
     def advance_to(self, target_cycle: int) -> None:
@@ -269,7 +299,8 @@ class Runner:
                 self._record()
             n = min(self._next_stop(target_cycle) - self.cycle, self._noise_rows())
             ran, code = advance(n, self.cycle, self.cycle_ns / 1e9, self.truth, self.truth_params, self._noise,
-                                self._noise_row, self.sensors, self.fsw.state, self.fsw.params, self.act_applied,
+                                self._noise_row, self.sensors, self.fsw.state, self.fsw.params, self.fsw.ace,
+                                self.fsw.ace_params, self.act_applied,
                                 self.act_new, self.delay)
             self.cycle += ran
             self._noise_row += ran

@@ -12,15 +12,22 @@ from pathlib import Path
 from typing import Any, Literal
 
 import yaml
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    ValidationError,
+    field_validator,
+    model_validator,
+)
 
 from sim import spacecraft as spacecraft_files
 from sim.calibration import MANEUVER_TYPES, ScheduledCalibration, duration_s
 from sim.commands import COMMAND_TYPES, Command, split_time_tag
 from sim.expectations import Expectation
-from sim.fsw.filter_design import make_torque_filter_params
 from sim.faults import FAULT_KINDS
-from sim.modes import IMPLEMENTED, Mode
+from sim.fsw.filter_design import make_torque_filter_params
+from sim.modes import INITIAL_MODES, Mode
 from sim.spacecraft.definition import Spacecraft
 from sim.spacecraft.model import Quat, Vec3, check_unit_quaternion
 from sim.telemetry_fields import always_fields, names_for
@@ -63,9 +70,9 @@ class InitialState(Strict):
     @field_validator("mode")
     @classmethod
     def _known_mode(cls, m: str) -> str:
-        names = [x.name for x in IMPLEMENTED]
+        names = [x.name for x in INITIAL_MODES]
         if m not in names:
-            raise ValueError(f"expected one of the implemented modes {names}, found {m!r}")
+            raise ValueError(f"expected one of {names} (DELTAH and DELTAV are entered by command: start_deltah, start_deltav), found {m!r}")
         return m
 
 

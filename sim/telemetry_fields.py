@@ -29,13 +29,14 @@ from sim.modes import Mode
 from sim.truth import mass as massmod
 from sim.truth.dynamics import loads
 from sim.truth.plant import apparent_sun_N
-from sim.truth.sensors.sensor_geometry import angle_between
 from sim.truth.rigid_body import IH, IQ, IW, angular_momentum_B
+from sim.truth.sensors.sensor_geometry import angle_between
 from sim.truth.wheels import wheel_speeds_rad_s
 
 RPM_PER_RAD_S = 60.0 / (2.0 * np.pi)
 DEG_H_PER_RAD_S = 180.0 / np.pi * 3600.0
 XYZ = ("x", "y", "z")
+DELTAH, DELTAV = int(Mode.DELTAH), int(Mode.DELTAV)
 WXYZ = ("w", "x", "y", "z")
 
 
@@ -94,7 +95,20 @@ def fsw_fields(n_star_trackers: int, n_wheels: int) -> list[str]:
             + [f"st_{k + 1}_innov_{a}_arcsec" for k in range(n_star_trackers) for a in XYZ]
             + _numbered("st_used", "", n_star_trackers) + ["dss_innov_alpha_arcsec", "dss_innov_beta_arcsec", "dss_used"]
             + _vec("knowledge_err_B", "_arcsec") + ["point_err_arcsec", "roll_err_arcsec", "sun_fsw_err_arcsec"]
-            + _numbered("wheel_bias", "_Nm", n_wheels))
+            + _numbered("wheel_bias", "_Nm", n_wheels) + mode_fields(n_wheels))
+
+
+def mode_fields(n_wheels: int) -> list[str]:
+    """The mode machine and the modes of flight software II: mode_prev is the
+    previous mode's number (sim.modes.Mode), mode_cause the last transition's
+    cause (0 ground, 1 FDC, 2 autonomous; -1 none yet); torque_demand and
+    torque_delivered are the control law's torque and what the actuators were
+    commanded to give (wheel modes: after the distribution's scaling;
+    thruster modes: from the pulse counts); the rest are on-board estimates
+    and the FDC's view of the hardware."""
+    return (["mode_prev", "mode_cause", "h_sys_err_Nms", "deltav_est_m_s", "propellant_est_kg", "css_sun_ok"]
+            + _vec("torque_demand_B", "_Nm") + _vec("torque_delivered_B", "_Nm")
+            + _numbered("wheel_ok", "", n_wheels) + _numbered("iru_ch_use", "", 6))
 
 
 def sensor_counts(sc) -> tuple[int, int]:
@@ -129,7 +143,27 @@ def _fsw_numbers(s, q_BN, sun_N):
         e.st_innov.ravel() * ARCSEC_PER_RAD, e.st_updated.astype(np.float64), e.dss_innov * ARCSEC_PER_RAD,
         e.dss_updated.astype(np.float64), know * ARCSEC_PER_RAD,
         np.array([np.sqrt(point[1] ** 2 + point[2] ** 2) * ARCSEC_PER_RAD, point[0] * ARCSEC_PER_RAD,
-                  angle_between(s.sun_N, sun_N) * ARCSEC_PER_RAD]), s.wheel_bias_Nm))
+                  angle_between(s.sun_N, sun_N) * ARCSEC_PER_RAD]), s.wheel_bias_Nm, _mode_numbers(s)))
+
+
+@njit(cache=True)
+def _mode_numbers(s):
+    t = s.thr
+    mode = s.mode[0]
+    thruster_mode = mode == DELTAH or mode == DELTAV
+    demand = t.torque_demand_B if thruster_mode else s.torque_cmd_B
+    delivered = t.torque_delivered_B if thruster_mode else s.torque_cmd_B - s.torque_undelivered_B
+    return np.concatenate((
+        np.array([float(s.mode_info[0]), float(s.mode_info[1]), t.h_sys_err_Nms[0],
+                  np.sqrt(np.sum(t.dv_N * t.dv_N)), t.propellant_kg[0], 1.0 if s.sun_ok[0] else 0.0]),
+        demand, delivered, s.fdc.wheel_ok.astype(np.float64), s.iru_ch_use.astype(np.float64)))
+
+
+@njit(cache=True)
+def target_in_use(s):
+    """The attitude the current mode holds: the thruster modes' own target, else q_RN."""
+    mode = s.mode[0]
+    return s.thr.q_hold_BN if mode == DELTAH or mode == DELTAV else s.q_RN
 
 
 @njit(cache=True)
@@ -153,7 +187,7 @@ def _numbers(t_s, ts, tp, s, rec, act):
     # an op-code numba does not support (CPython 3.11's LIST_TO_TUPLE)
     head = np.concatenate((
         np.array([t_s]), q_BN, omega, h, h_total_N,
-        np.array([rotation_angle(quat_mul(quat_conj(s.q_RN), q_BN)) * ARCSEC_PER_RAD,
+        np.array([rotation_angle(quat_mul(quat_conj(target_in_use(s)), q_BN)) * ARCSEC_PER_RAD,
                   np.sqrt(np.sum(h_total_N * h_total_N)),
                   rotation_angle(quat_mul(quat_conj(s.q_est_BN), q_BN)) * ARCSEC_PER_RAD]),
         s.q_est_BN, s.q_RN, s.theta_e * ARCSEC_PER_RAD, s.rate_B, s.torque_pid_B, s.torque_cmd_B,

@@ -40,11 +40,13 @@ def _prefill(name: str, schema: dict, frame: dict | None) -> Any:
         names = [f"{name}_{a}" for a in axes]
         if all(n in frame for n in names):
             return [frame[n] for n in names]
+    if schema.get("examples"):
+        return schema["examples"][0]
     if "minimum" in schema:
         return schema["minimum"]
     if schema.get("type") == "array":
         n = len(schema.get("prefixItems", [])) or schema.get("minItems", 0)
-        return [0.0] * n
+        return [1.0, 0.0, 0.0, 0.0] if n == 4 else [0.0] * n   # four items: a quaternion, identity
     return {"number": 0.0, "integer": 0, "boolean": False, "string": ""}.get(schema.get("type"), None)
 
 

@@ -8,7 +8,9 @@ from __future__ import annotations
 import numpy as np
 
 from sim.attitude import quat_to_dcm
+from sim.fsw import build_modes as bm
 from sim.fsw import ekf as ekfmod
+from sim.fsw.css_sun import make_css_sun_params
 from sim.fsw.distribution import distribution_matrix
 from sim.fsw.ephemeris_task import EphemerisTaskParams, init_task
 from sim.fsw.filter_design import make_torque_filter_params
@@ -18,9 +20,10 @@ from sim.fsw.pid import DISABLE_METHODS, PidParams
 from sim.fsw.science import ARCSEC, gt_biases
 from sim.fsw.snr import SOLAR_POLE_N, TARGET_GCI, TARGET_SNR, TARGET_SNR_DELTA
 from sim.fsw.state import N_FLAGS, FswParams, FswState, ScienceParams
-from sim.fsw.wheel_bias import WheelBiasParams, make_wheel_bias_params
 from sim.fsw.targeting import update_target
+from sim.fsw.thruster_modes import make_thruster_mode_state
 from sim.fsw.torque_filter import make_torque_filter_state
+from sim.fsw.wheel_bias import WheelBiasParams, make_wheel_bias_params
 from sim.modes import Mode
 from sim.spacecraft.fsw_models import OnboardEphemeris
 
@@ -67,7 +70,9 @@ def make_fsw_params(sc, uplink) -> FswParams:
         iru_ch_axes_B=np.array(sc.sensors.iru_units.channel_axes_B, float), dt=dt,
         ekf=ekfmod.ekf_params_from_spacecraft(sc, sc.fsw.ekf.sun_accuracy_arcsec_3sigma),
         eph=EphemerisTaskParams(orbit, white_sands_E_m(), e.sample_s), eph_every=every, pole_N=SOLAR_POLE_N.copy(),
-        tf=make_torque_filter_params(sc.fsw.torque_filters, dt), sci=_science_params(sc), wb=_wheel_bias_params(sc))
+        tf=make_torque_filter_params(sc.fsw.torque_filters, dt), sci=_science_params(sc), wb=_wheel_bias_params(sc),
+        sun=bm.sun_law_params(sc), css=make_css_sun_params(sc), css_set=bm.css_set(sc), thr=bm.thruster_mode_params(sc),
+        fdc=bm.fdc_params(sc))
 
 
 def target_kind(dq_RS) -> int:
@@ -75,7 +80,7 @@ def target_kind(dq_RS) -> int:
 
 
 def make_fsw_state(sc, p: FswParams, uplink, mode: Mode, q_est_BN, q_RN_gci=None,
-                   dq_RS=(1.0, 0.0, 0.0, 0.0)) -> FswState:
+                   dq_RS=(1.0, 0.0, 0.0, 0.0), propellant_kg=None) -> FswState:
     """The state at t = 0: the filter at the uplinked attitude q_est_BN, the
     ephemeris task at the uplinked orbit, the target GCI q_RN_gci when given,
     else the SNR frame times dq_RS."""
@@ -101,6 +106,13 @@ def make_fsw_state(sc, p: FswParams, uplink, mode: Mode, q_est_BN, q_RN_gci=None
         torque_pid_B=np.zeros(3), torque_cmd_B=np.zeros(3), torque_undelivered_B=np.zeros(3),
         flags=np.zeros(N_FLAGS), rate_B=np.zeros(3), int_active=np.zeros(3, dtype=np.bool_), torque_int_B=np.zeros(3),
         iru_ch_use=np.ones(6, dtype=np.bool_), wheel_bias_Nm=np.zeros(sc.n_wheels),
-        ekf=ekf, eph=init_task(p.eph, uplink.x_sc_N, 0.0), tf=make_torque_filter_state())
+        ekf=ekf, eph=init_task(p.eph, uplink.x_sc_N, 0.0), tf=make_torque_filter_state(),
+        mode_info=np.array([int(mode), -1], np.int64), sun_B=np.array([1.0, 0.0, 0.0]), sun_ok=flag(False),
+        proc_up=flag(True),
+        thr=make_thruster_mode_state(sc.n_wheels, len(sc.thrusters.units),
+                                     sc.mass.propellant_kg if propellant_kg is None else propellant_kg,
+                                     bm.thruster_set_index(sc, f.thruster_control.thruster_set
+                                                           if f.thruster_control else "primary")),
+        fdc=bm.fdc_state(sc, enabled=True))
     update_target(s, p)
     return s

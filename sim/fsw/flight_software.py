@@ -16,17 +16,25 @@ from sim.commands import (
     EnableScienceAutonomy,
     ResetIntegrator,
     SelectCgt,
+    SelectThrusterSet,
     SetAttitudeOption,
+    SetDeltaVTarget,
+    SetFdcCheck,
     SetMode,
     SetTargetQuaternion,
     SetTargetSnr,
+    StartDeltaH,
+    StartDeltaV,
 )
 from sim.fsw import state as st
 from sim.fsw.build import ATTITUDE_OPTIONS, make_fsw_params, make_fsw_state, target_kind
+from sim.fsw.build_modes import ace_params, thruster_set_index
+from sim.fsw.fdc import CHECK_NAMES
+from sim.fsw.mode_machine import FdcAction, ModeMachine, Transition
+from sim.fsw.safehold import make_ace_state
 from sim.fsw.snr import TARGET_GCI
 from sim.fsw.targeting import update_target
-from sim.fsw.torque_filter import BANK_INERTIAL, BANK_SCIENCE, preload_torque_filter
-from sim.modes import AUTONOMOUS, FDC, GROUND, Mode, refusal
+from sim.modes import GROUND, Mode
 from sim.spacecraft.definition import Spacecraft
 
 
@@ -39,63 +47,39 @@ class Outcome:
     watch_slew: bool = False  # a slew started: complete once inside the integral torque box
 
 
-@dataclass
-class Transition:
-    old: Mode
-    new: Mode
-    cause: str      # modes.GROUND | FDC | AUTONOMOUS
-    why: str
-
-    def describe(self) -> str:
-        return f"mode {self.old.name} -> {self.new.name} ({self.cause}: {self.why})"
-
-
 class FlightSoftware:
     def __init__(self, sc: Spacecraft, uplink, mode: Mode, q_est_BN, q_RN_gci=None,
-                 dq_RS=(1.0, 0.0, 0.0, 0.0)):
+                 dq_RS=(1.0, 0.0, 0.0, 0.0), propellant_kg=None):
         self.sc = sc
         self.params = make_fsw_params(sc, uplink)
-        self.state = make_fsw_state(sc, self.params, uplink, mode, q_est_BN, q_RN_gci, dq_RS)
+        self.state = make_fsw_state(sc, self.params, uplink, mode, q_est_BN, q_RN_gci, dq_RS, propellant_kg)
+        # the ACE: its own unit, beside the main processor (safehold.py)
+        self.ace_params = ace_params(sc)
+        self.ace = make_ace_state()
+        self.ace.in_control[0] = mode == Mode.SAFEHOLD
+        self.machine = ModeMachine(sc, self.params, self.state, self.ace)
         g = sc.fsw.inertial
         self.slew_rate_rad_s = g.kp_per_s2 / g.kd_per_s * g.attitude_limit_rad   # the limiter's steady slew rate
         self.slew_allowance_s = sc.fsw.slew_allowance_s
-        self.transitions: list[Transition] = []
 
     @property
     def mode(self) -> Mode:
         return Mode(int(self.state.mode[0]))
 
-    # -- mode machine ----------------------------------------------------------
-    def transition(self, new: Mode, cause: str, why: str) -> str:
-        """Take the transition, or return why it is refused."""
-        reason = refusal(self.mode, new, cause)
-        if reason:
-            return reason
-        if new == Mode.SCIENCE and self.state.flags[st.F_CGT_OK] == 0.0:
-            return f"the controlling guide telescope {int(self.state.cgt[0]) + 1} is not valid and in its fine range"
-        s = self.state
-        old = self.mode
-        # The integral carries across Inertial <-> Science (seed 000); the new
-        # bank starts from the steady state of the held integral torque, so the
-        # switch of filters puts no step into the torque command.
-        if new == Mode.INERTIAL:
-            s.autonomy[0] = False   # seed 001: "disabled on entry into Inertial mode to prevent ... switching back and forth"
-            preload_torque_filter(s.tf, self.params.tf, BANK_INERTIAL, s.torque_int_B)
-        elif new == Mode.SCIENCE:
-            preload_torque_filter(s.tf, self.params.tf, BANK_SCIENCE, s.torque_int_B)
-        s.mode[0] = int(new)
-        self.transitions.append(Transition(old, new, cause, why))
-        return ""
+    # -- mode machine (mode_machine.py) ------------------------------------------
+    def transition(self, new: Mode, cause: str, why: str, setup=None) -> str:
+        return self.machine.transition(new, cause, why, setup)
 
-    def on_event(self, code: int) -> Transition | None:
-        """The mode machine's answer to a cycle event (other codes: the runner's)."""
-        if code == st.EVENT_SCIENCE_ACQUIRED and not self.transition(
-                Mode.SCIENCE, AUTONOMOUS, "controlling guide telescope in its acquisition range"):
-            return self.transitions[-1]
-        if code == st.EVENT_CGT_LOST and not self.transition(
-                Mode.INERTIAL, FDC, "controlling guide telescope invalid or out of its fine range"):
-            return self.transitions[-1]
-        return None
+    def on_event(self, code: int) -> None:
+        self.machine.on_event(code)
+
+    @property
+    def transitions(self) -> list[Transition]:
+        return self.machine.transitions
+
+    @property
+    def fdc_actions(self) -> list[FdcAction]:
+        return self.machine.fdc_actions
 
     # -- commands --------------------------------------------------------------
     def check(self, cmd: CommandBase) -> str:
@@ -110,6 +94,22 @@ class FlightSoftware:
         n_gt = len(self.sc.sensors.guide_telescopes.units) if self.sc.sensors.guide_telescopes else 0
         if isinstance(cmd, SelectCgt) and cmd.cgt > n_gt:
             return f"cgt {cmd.cgt}: this spacecraft has {n_gt} guide telescope(s)"
+        return self._check_thruster_args(cmd)
+
+    def _check_thruster_args(self, cmd) -> str:
+        sets = [x.set for x in self.sc.thrusters.units]
+        args = cmd.deltav if isinstance(cmd, SetMode) else cmd
+        name = getattr(args, "thruster_set", None)
+        if name is not None and name not in sets:
+            return f"thruster_set {name}: this spacecraft has {', '.join(sorted(set(sets)))}"
+        args = cmd.deltah if isinstance(cmd, SetMode) else cmd
+        for field in ("wheel_momentum_Nms", "wheel_speed_rpm"):
+            v = getattr(args, field, None)
+            if v is not None and len(v) != self.sc.n_wheels:
+                return f"{field}: {len(v)} values given, this spacecraft has {self.sc.n_wheels} wheels"
+        v = getattr(args, "wheel_momentum_Nms", None)
+        if v is not None and max(abs(x) for x in v) > self.sc.wheels.h_max_Nms:
+            return f"wheel_momentum_Nms: beyond the wheels' {self.sc.wheels.h_max_Nms:g} N m s capacity"
         return ""
 
     def execute(self, cmd: CommandBase) -> Outcome:
@@ -117,9 +117,8 @@ class FlightSoftware:
         if reason:
             return Outcome(False, reason)
         s = self.state
-        if isinstance(cmd, SetMode):
-            reason = self.transition(Mode[cmd.mode], GROUND, f"command {cmd.type}")
-            return Outcome(not reason, reason, completed=not reason)
+        if isinstance(cmd, (SetMode, StartDeltaH, StartDeltaV)):
+            return self._mode_command(cmd)
         if isinstance(cmd, (SetTargetQuaternion, SetTargetSnr)):
             self._set_target(cmd)
             return Outcome(True, watch_slew=True)
@@ -132,9 +131,60 @@ class FlightSoftware:
             s.autonomy[0] = cmd.enabled
         elif isinstance(cmd, SelectCgt):
             s.cgt[0] = cmd.cgt - 1
+        elif isinstance(cmd, SetDeltaVTarget):
+            s.thr.q_hold_BN[:] = cmd.q_RN
+        elif isinstance(cmd, SelectThrusterSet):
+            s.thr.thr_set[0] = thruster_set_index(self.sc, cmd.thruster_set)
+            s.thr.carry[:] = 0.0
+        elif isinstance(cmd, SetFdcCheck):
+            s.fdc.enabled[CHECK_NAMES.index(cmd.check)] = cmd.enabled
         else:
             raise TypeError(f"flight software has no handler for {cmd.type}")  # a programming error, not client input
         return Outcome(True, completed=True)
+
+    def _mode_command(self, cmd) -> Outcome:
+        """set_mode, start_deltah, start_deltav: one path into the mode machine."""
+        if isinstance(cmd, StartDeltaH):
+            new, args = Mode.DELTAH, cmd
+        elif isinstance(cmd, StartDeltaV):
+            new, args = Mode.DELTAV, cmd
+        else:
+            new, args = Mode[cmd.mode], cmd.deltav or cmd.deltah
+        setup = None
+        if new == Mode.DELTAH:
+            setup = self._deltah_setup(args)
+        elif new == Mode.DELTAV:
+            setup = self._deltav_setup(args)
+        reason = self.transition(new, GROUND, f"command {cmd.type}", setup)
+        return Outcome(not reason, reason, completed=not reason)
+
+    def _deltah_setup(self, args):
+        n = self.sc.n_wheels
+        h = np.zeros(n)
+        if args is not None and args.wheel_momentum_Nms is not None:
+            h = np.array(args.wheel_momentum_Nms, float)
+        elif args is not None and args.wheel_speed_rpm is not None:
+            h = np.array(args.wheel_speed_rpm, float) * (np.pi / 30.0) * self.sc.wheels.spin_inertia_kgm2
+        tipoff = bool(args.tipoff) if args is not None else False
+        t = self.state.thr
+
+        def setup():
+            t.h_target_Nms[:] = h
+            t.tipoff[0] = tipoff
+        return setup
+
+    def _deltav_setup(self, args):
+        t, dt = self.state.thr, self.sc.timing.control_dt_s
+        set_index = thruster_set_index(self.sc, args.thruster_set)
+
+        def setup():
+            t.q_hold_BN[:] = args.target_q_RN
+            t.burn_cycles[0] = round(args.duration_s / dt)
+            t.burn_k[0] = 0
+            t.main_engine[0] = args.main_engine
+            t.thr_set[0] = set_index
+            t.carry[:] = 0.0
+        return setup
 
     def _set_target(self, cmd) -> None:
         s = self.state

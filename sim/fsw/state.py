@@ -7,9 +7,13 @@ from typing import NamedTuple
 
 import numpy as np
 
+from sim.fsw.css_sun import CssSunParams
 from sim.fsw.ekf import EkfParams, EkfState
 from sim.fsw.ephemeris_task import EphemerisTaskParams, EphemerisTaskState
+from sim.fsw.fdc import FdcParams, FdcState
 from sim.fsw.pid import PidParams
+from sim.fsw.sunacq import SunLawParams
+from sim.fsw.thruster_modes import ThrusterModeParams, ThrusterModeState
 from sim.fsw.torque_filter import TorqueFilterParams, TorqueFilterState
 from sim.fsw.wheel_bias import WheelBiasParams
 
@@ -18,6 +22,10 @@ EVENT_NONE = 0
 EVENT_SLEW_SETTLED = 1
 EVENT_SCIENCE_ACQUIRED = 2   # Inertial: the CGT is in its acquisition range and autonomy is on
 EVENT_CGT_LOST = 3           # Science: the CGT is invalid or out of its fine range
+EVENT_BURN_DONE = 4          # DeltaV: the burn time is reached (thruster_modes.py)
+EVENT_DELTAH_DONE = 5        # DeltaH: system momentum within the exit band of the target
+EVENT_FDC = 6                # an FDC check fired: FdcState.last says which (fdc.py)
+EVENT_ACE_TAKEOVER = 10      # the ACE took the wheels in Safehold (safehold.py)
 
 # flags[] slots
 F_WATCH_SLEW = 0   # 1: a slew is watched until inside the integral torque box
@@ -44,6 +52,11 @@ class FswParams(NamedTuple):
     tf: TorqueFilterParams
     sci: ScienceParams
     wb: WheelBiasParams
+    sun: SunLawParams         # SunAcq, eq. (6)
+    css: CssSunParams
+    css_set: int
+    thr: ThrusterModeParams   # DeltaV, DeltaH
+    fdc: FdcParams
 
 
 class FswState(NamedTuple):
@@ -76,3 +89,9 @@ class FswState(NamedTuple):
     ekf: EkfState
     eph: EphemerisTaskState
     tf: TorqueFilterState
+    mode_info: np.ndarray            # (2,) int64: previous mode, cause of the last transition (CAUSE_CODES)
+    sun_B: np.ndarray                # (3,) CSS Sun vector, body
+    sun_ok: np.ndarray               # (1,) bool: the CSS saw the Sun this cycle
+    proc_up: np.ndarray              # (1,) bool: the main processor runs (a processor fault clears it)
+    thr: ThrusterModeState
+    fdc: FdcState

@@ -3,7 +3,7 @@ attitude determination, the Inertial/Science PID with the integral torque
 box, Science-mode guide-telescope use, and the torque filters."""
 from __future__ import annotations
 
-from typing import Literal
+from typing import Annotated, Literal
 
 from pydantic import Field
 
@@ -58,6 +58,60 @@ class OnboardEphemeris(Strict):
     sample_s: Positive = Field(1.0, description="ephemeris task sample time (seed 001: nominally 1 s)")
 
 
+class SunAcquisition(Strict):
+    """Seed 001 eq. (6): PD on the CSS Sun vector with IRU rates; rate-only in eclipse."""
+    kp_per_s2: Positive = Field(description="k_p; K_p = k_p * I")
+    kd_per_s: Positive = Field(description="k_d; K_d = k_d * I")
+    sun_error_limit: Annotated[float, Field(gt=0, le=1)] = Field(
+        description="limit of |s_d x s| (attitude limiting): the slew rate is k_p/k_d times it")
+    css_set: Literal["primary", "backup", "both"] = Field("both", description="CSS eyes used")
+
+
+class Safehold(Strict):
+    """Seed 001 eq. (7), in the ACE: CSS Sun vector and CSS-derived Y/Z rates,
+    the X rate from the wheel tachometers, IRU rates in eclipse."""
+    kp_per_s2: Positive
+    kd_per_s: Positive
+    k_perp: Positive = Field(description="rate gain perpendicular to the Sun line")
+    k_sunline: Positive = Field(description="rate gain along the Sun line")
+    sun_error_limit: Annotated[float, Field(gt=0, le=1)]
+    rate_filter_s: Positive = Field(description="time constant of the low-pass on the CSS-derived rate")
+    h_sunline_ref_Nms: float = Field(
+        0.0, description="system momentum along the Sun line the tachometer-derived X rate is measured against")
+    heartbeat_cycles: int = Field(ge=1, description="missed main-processor cycles before the ACE takes over")
+    css_set: Literal["primary", "backup", "both"] = Field("primary", description="CSS eyes read by this ACE")
+
+
+class ThrusterControl(Strict):
+    """DeltaV and DeltaH (seed 001): PD on the IRU-propagated attitude, gains
+    k * I(propellant) from the decoupled (diagonal) inertia; thruster pulses."""
+    deltav_kp_per_s2: Positive
+    deltav_kd_per_s: Positive
+    deltah_kp_per_s2: Positive
+    deltah_kd_per_s: Positive
+    tipoff_kp_factor: Positive = Field(0.1, description="DeltaH tip-off contingency: K_p times this")
+    wheel_gain_per_s: Positive = Field(description="DeltaH wheel command: torque = J_s * gain * speed error")
+    h_exit_Nms: Positive = Field(description="DeltaH exits when |H_wheels + H_body - H_target| is below this")
+    settling_burn_s: NonNegative = Field(description="ACS-thruster burn before a main-engine burn")
+    thruster_set: Literal["primary", "redundant"] = Field("primary", description="set in use at start")
+
+
+class Fdc(Strict):
+    """Failure detection and correction thresholds; each check can be
+    disabled by command (set_fdc_check)."""
+    attitude_limit_deg: dict[str, Positive] = Field(
+        description="per mode: attitude error beyond which the mode's FDC response fires")
+    rate_limit_deg_s: dict[str, Positive] = Field(description="per mode: body rate beyond which it fires")
+    limit_response: dict[str, Literal["INERTIAL", "SUNACQ", "SAFEHOLD"]] = Field(
+        description="per mode: where the attitude/rate limit check takes the spacecraft")
+    limit_persistence_s: Positive = Field(description="how long a limit must be exceeded")
+    wheel_torque_threshold_Nm: Positive
+    wheel_persistence_s: Positive
+    iru_disagree_deg_s: Positive
+    iru_persistence_s: Positive
+    iru_window_s: Positive
+
+
 class Fsw(Strict):
     attitude_option: Literal["ekf", "star_tracker", "iru"] = Field(
         "ekf", description="attitude determination at start: the Kalman filter, a star tracker, IRU propagation")
@@ -69,6 +123,10 @@ class Fsw(Strict):
     science: ScienceControl
     wheel_bias: WheelBias | None = Field(None, description="absent: no zero-speed avoidance")
     torque_filters: TorqueFilters
+    sun_acquisition: SunAcquisition | None = Field(None, description="absent: no SunAcq mode")
+    safehold: Safehold | None = Field(None, description="absent: no ACE Safehold")
+    thruster_control: ThrusterControl | None = Field(None, description="absent: no DeltaV/DeltaH")
+    fdc: Fdc | None = Field(None, description="absent: no failure detection and correction")
     slew_allowance_s: Positive = Field(
         description="a slew is complete once inside the integral torque box on every axis; it fails if not by "
                     "its angle at the limited rate (k_p/k_d x attitude limit) plus this allowance")
