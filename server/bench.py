@@ -44,6 +44,7 @@ def basilisk_mirror() -> dict:
         "name": "basilisk-mirror", "spacecraft": "sdo", "duration_s": 3600.0, "seed": 1,
         "overrides": {
             "timing": {"truth_dt_s": 0.1, "control_dt_s": 0.1},
+            "thrusters": {"pulse_s": 0.05, "max_pulses_per_cycle": 2},   # two 50 ms pulses fit the 0.1 s cycle
             "wheels": {"axes_B": axes, "spin_inertia_kgm2": spin_inertia, "h_max_Nms": 75.0,
                        "torque_max_Nm": 0.2, "torque_limit_sw_Nm": 0.2, "viscous_Nm_per_rad_s": 0.0,
                        "coulomb_Nm": 0.0},
@@ -52,7 +53,10 @@ def basilisk_mirror() -> dict:
             "sensors": {"css": None, "dss": None, "guide_telescopes": None, "tachometers": None},
             # its flight software takes the navigation attitude as it is (fly a tracker, no
             # Kalman filter) and has no ephemeris, no torque filter and no zero-speed logic
+            # its flight software has one mode (no Sun acquisition, ACE Safehold, thruster
+            # modes or failure detection)
             "fsw": {"attitude_option": "star_tracker", "wheel_bias": None, "ephemeris": None,
+                    "sun_acquisition": None, "safehold": None, "thruster_control": None, "fdc": None,
                     "torque_filters": {bank: {"x": None, "y": None, "z": None} for bank in ("inertial", "science")}}},
         "initial": {"mode": "INERTIAL", "q_BN": quat_from_mrp(np.array([0.1, 0.2, -0.3])).tolist(),
                     "omega_BN_B_rad_s": omega0, "h_wheels_Nms": h0, "target_q_RN": [1.0, 0.0, 0.0, 0.0]},

@@ -31,6 +31,8 @@ from websockets.sync.client import connect
 
 TOKEN = "loadtest-token"
 ACS = Path(sys.executable).parent / "acs"
+# slews are the load: the run starts in Inertial (the default console run starts in SunAcq)
+INERTIAL_SCENARIO = Path(__file__).resolve().parent.parent / "scenarios" / "live_sdo_inertial.yaml"
 CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking", "--disable-component-update",
                  "--disable-sync", "--no-first-run"]
 # two unit quaternions 1 deg apart about Z: the latency probe alternates between them
@@ -48,7 +50,8 @@ class Served:
 
     def __init__(self, archive: Path):
         self.api, self.gui = _free_port(), _free_port()
-        self.proc = subprocess.Popen([str(ACS), "serve", "--archive", str(archive), "--port", str(self.api),
+        self.proc = subprocess.Popen([str(ACS), "serve", "--scenario", str(INERTIAL_SCENARIO), "--archive", str(archive),
+                                      "--port", str(self.api),
                                       "--viser-port", str(self.gui), "--quiet"], stdout=subprocess.DEVNULL,
                                      stderr=subprocess.DEVNULL, env=dict(os.environ, ACS_TOKEN=TOKEN))
         self.base, self.console = f"http://127.0.0.1:{self.api}", f"http://127.0.0.1:{self.gui}"

@@ -38,6 +38,7 @@ from sim.fsw.snr import SOLAR_POLE_N, snr_quat_from_sun
 from sim.fsw.state import EVENT_SLEW_SETTLED
 from sim.loop import advance
 from sim.records import empty_actuator_command, empty_sensor_record
+from sim.modes import Mode
 from sim.scenario import Scenario, initial_mode
 from sim.spacecraft.definition import Spacecraft
 from sim.truth import build, sensor_suite
@@ -132,6 +133,10 @@ class Runner:
         self.fsw = FlightSoftware(sc, make_uplink(scenario.epoch_utc, r0, v0), initial_mode(scenario), q_BN,
                                   gci_target, propellant_kg=propellant)
 
+        # telemetry samples computed inside a segment by the compiled loop (sim/loop.py)
+        n_numbers = len(telemetry_fields.names_for(sc)) - 1   # every field but mode
+        self._tlm_rows = np.empty((NOISE_BLOCK_CYCLES // self.tlm_every + 2, n_numbers))
+        self._tlm_mode = np.empty(self._tlm_rows.shape[0], np.int64)
         self.n_noise = sensor_suite.noise_per_cycle(self.truth_params.sensors)
         self._noise = np.empty((0, self.n_noise))
         self._noise_row = 0
@@ -265,7 +270,9 @@ class Runner:
         return telemetry.Frame(mode, numbers[self.layout.index], self.layout)
 
     def _record(self) -> None:
-        frame = self.frame()
+        self._emit_frame(self.frame())
+
+    def _emit_frame(self, frame: telemetry.Frame) -> None:
         if self.keep_frames:
             self._frames.append(frame)
         for listener in self.listeners:
@@ -279,7 +286,7 @@ class Runner:
         return self._noise.shape[0] - self._noise_row
 
     def _next_stop(self, limit: int) -> int:
-        stops = [limit, (self.cycle // self.tlm_every + 1) * self.tlm_every]
+        stops = [limit]
         due = self.queue.next_due_cycle()
         if due is not None:
             stops.append(due)
@@ -298,10 +305,13 @@ class Runner:
             if self.cycle % self.tlm_every == 0:
                 self._record()
             n = min(self._next_stop(target_cycle) - self.cycle, self._noise_rows())
-            ran, code = advance(n, self.cycle, self.cycle_ns / 1e9, self.truth, self.truth_params, self._noise,
+            ran, code, rows = advance(n, self.cycle, self.cycle_ns / 1e9, self.truth, self.truth_params, self._noise,
                                 self._noise_row, self.sensors, self.fsw.state, self.fsw.params, self.fsw.ace,
-                                self.fsw.ace_params, self.act_applied,
-                                self.act_new, self.delay)
+                                self.fsw.ace_params, self.act_applied, self.act_new, self.delay, self.cycle_ns,
+                                self.tlm_every, self._tlm_rows, self._tlm_mode)
+            for i in range(rows):
+                self._emit_frame(telemetry.Frame(Mode(int(self._tlm_mode[i])).name,
+                                                 self._tlm_rows[i][self.layout.index], self.layout))
             self.cycle += ran
             self._noise_row += ran
             if code:

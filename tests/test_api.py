@@ -28,6 +28,7 @@ from sim.commands import COMMAND_TYPES, ResetIntegrator
 from sim.modes import Mode
 from web.forms import build_command, field_specs, initial_value
 
+REPO = Path(__file__).resolve().parent.parent
 TOKEN = "test-operator-token"
 AUTH = {"Authorization": f"Bearer {TOKEN}"}
 CONTROL_DT_S = 0.2                      # seed 001: SDO's 200 ms control cycle
@@ -49,7 +50,9 @@ def wait_for(predicate, timeout_s: float = 20.0, every_s: float = 0.05):
 @pytest.fixture(scope="module")
 def client(tmp_path_factory):
     archive = tmp_path_factory.mktemp("api") / "archive.sqlite"
-    app = create_app(ServeConfig(archive=archive, token=TOKEN, viser_port=None))
+    # the Inertial start (the default run starts in SunAcq, where slews are not legal)
+    app = create_app(ServeConfig(scenario=REPO / "scenarios" / "live_sdo_inertial.yaml", archive=archive, token=TOKEN,
+                                 viser_port=None))
     with TestClient(app) as c:
         # the first frame may wait for numba to compile the kernels (cold cache)
         wait_for(lambda: c.get("/api/telemetry/latest").status_code == 200, timeout_s=180)
@@ -242,7 +245,7 @@ def test_warp_keeps_to_the_wall_clock(client):
 def test_archived_telemetry_at_the_recorded_rate(client):
     wait_for(lambda: sim_t(client) > 6)
     r = client.get("/api/telemetry", params={"fields": "att_err_arcsec,lag_s", "start": 1, "end": 5}).json()
-    assert r["columns"]["t_s"] == [1.0, 2.0, 3.0, 4.0, 5.0]         # live_sdo records at 1 Hz
+    assert r["columns"]["t_s"] == [1.0, 2.0, 3.0, 4.0, 5.0]         # live_sdo_inertial records at 1 Hz
     assert all(v >= 0 for v in r["columns"]["lag_s"])
     bad = client.get("/api/telemetry", params={"fields": "warp_factor"})
     assert bad.status_code == 422 and "warp_factor" in json.dumps(bad.json())

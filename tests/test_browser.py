@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import shutil
 import socket
 import sqlite3
@@ -83,6 +84,12 @@ def _field(page, label: str):
     return row.locator("input, textarea").first
 
 
+def _choose(page, label: str, option: str) -> None:
+    """Pick an option of a viser dropdown."""
+    _field(page, label).click()
+    page.get_by_role("option", name=option, exact=True).click()
+
+
 def _canvas_png(page, title: str) -> bytes:
     return page.locator("div.uplot", has_text=title).locator("canvas").first.screenshot()
 
@@ -97,7 +104,7 @@ def test_unlock_command_a_slew_and_watch_it(served):
         unlock = page.get_by_role("button", name="Unlock")
         unlock.wait_for(timeout=60_000)
         assert page.get_by_role("button", name="Send").count() == 0       # locked: no command form
-        page.get_by_text("INERTIAL").first.wait_for(timeout=30_000)      # the mode, from telemetry
+        page.get_by_text("SUNACQ").first.wait_for(timeout=30_000)        # the default run starts in SunAcq
 
         _field(page, "Operator token").fill("not-the-token")
         unlock.click()
@@ -108,10 +115,29 @@ def test_unlock_command_a_slew_and_watch_it(served):
         send = page.get_by_role("button", name="Send")
         send.wait_for(timeout=10_000)
 
+        # SunAcq -> Inertial: a forced mode change, confirmed in the modal; the mode
+        # panel shows the transition once the flight software has taken it
+        _choose(page, "Command", "set_mode")
+        _choose(page, "mode", "INERTIAL")
+        page.get_by_role("button", name="Send").click()
+        page.get_by_text("Send hazardous command set_mode?").first.wait_for(timeout=10_000)
+        page.get_by_role("button", name="Confirm").click()
+        page.get_by_text("Command 1 queued").wait_for(timeout=10_000)
+        deadline = time.monotonic() + 20
+        while time.monotonic() < deadline and _get(f"{base}/api/telemetry/latest")["mode"] != "INERTIAL":
+            time.sleep(0.1)
+        assert _get(f"{base}/api/telemetry/latest")["mode"] == "INERTIAL"
+        page.get_by_role("tab", name="Mode").click()
+        page.get_by_text("SUNACQ -> INERTIAL (ground)").first.wait_for(timeout=10_000)   # the mode history
+        page.screenshot(path=str(ARTIFACTS / "console-mode.png"))
+        page.get_by_role("tab", name="Plots").click()
+
+        _choose(page, "Command", "set_target_quaternion")
+        send = page.get_by_role("button", name="Send")
         before = _canvas_png(page, "Attitude error")
         _field(page, "q_RN").fill(json.dumps(SLEW_Q))
         send.click()
-        page.get_by_text("Command 1 queued").wait_for(timeout=10_000)
+        page.get_by_text("Command 2 queued").wait_for(timeout=10_000)
 
         # the flight software took it at a control cycle: lifecycle and telemetry say so
         deadline = time.monotonic() + 20
@@ -140,8 +166,7 @@ def test_unlock_command_a_slew_and_watch_it(served):
         hazardous = [name for name, model in COMMAND_TYPES.items() if model.hazardous]
         if hazardous:
             n_before = len(_get(f"{base}/api/commands"))
-            _field(page, "Command").click()
-            page.get_by_role("option", name=hazardous[0], exact=True).click()
+            _choose(page, "Command", hazardous[0])
             page.get_by_role("button", name="Send").click()
             page.get_by_text(f"Send hazardous command {hazardous[0]}?").first.wait_for(timeout=10_000)
             page.screenshot(path=str(ARTIFACTS / "console-confirm.png"))
@@ -155,5 +180,5 @@ def test_unlock_command_a_slew_and_watch_it(served):
         page.get_by_role("option", name="historical").click()
         page.get_by_role("button", name="Load run").click()
         page.get_by_text("HISTORICAL").first.wait_for(timeout=10_000)
-        assert page.get_by_text("mode INERTIAL").count() >= 1
+        assert page.get_by_text(re.compile("mode (SUNACQ|INERTIAL)")).count() >= 1
         browser.close()

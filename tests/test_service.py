@@ -28,7 +28,7 @@ from sim.commands import COMMAND_TYPES, ResetIntegrator, SetTargetQuaternion
 from web.forms import build_command, field_specs, initial_value, read_value
 
 REPO = Path(__file__).resolve().parent.parent
-LIVE = REPO / "scenarios" / "live_sdo.yaml"
+LIVE = REPO / "scenarios" / "live_sdo_inertial.yaml"
 ACS = Path(sys.executable).parent / "acs"
 
 

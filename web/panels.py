@@ -67,6 +67,9 @@ def status_markdown(frame: dict | None, status: dict, run: dict) -> str:
             f"run {run['run_id']}: {run['name']} (seed {run['seed']}){ended}")
 
 
+CAUSES = {0.0: "ground", 1.0: "FDC", 2.0: "autonomous"}   # telemetry mode_cause (sim/telemetry_fields.py)
+
+
 class ModeHistory:
     """Mode transitions seen in the live frames (the engine's own mode events
     also appear in the event log)."""
@@ -80,8 +83,12 @@ class ModeHistory:
             return
         key = (frame["run_id"], frame["mode"])
         if key != self._last:
+            change = frame["mode"]
+            if self._last is not None and self._last[0] == key[0]:
+                cause = CAUSES.get(frame.get("mode_cause"), "")
+                change = f"{self._last[1]} -> {frame['mode']}" + (f" ({cause})" if cause else "")
             self._last = key
-            self.entries.appendleft(f"- {frame['utc']} (t = {frame['t_s']:.1f} s): **{frame['mode']}**")
+            self.entries.appendleft(f"- {frame['utc']} (t = {frame['t_s']:.1f} s): **{change}**")
 
     def markdown(self) -> str:
         return "\n".join(self.entries) or "—"

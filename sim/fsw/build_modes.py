@@ -10,7 +10,7 @@ import numpy as np
 
 from sim.fsw.css_sun import make_css_sun_params
 from sim.fsw.distribution import distribution_matrix
-from sim.fsw.fdc import N_CHECKS, NO_LIMIT, FdcParams, FdcState
+from sim.fsw.fdc import CHECK_WHEEL, N_CHECKS, NO_LIMIT, FdcParams, FdcState
 from sim.fsw.fdc_iru import make_iru_fdc_params, make_iru_fdc_state
 from sim.fsw.fdc_wheel import make_wheel_fdc_params, make_wheel_fdc_state
 from sim.fsw.safehold import AceParams
@@ -43,7 +43,7 @@ def ace_params(sc) -> AceParams:
     law = (SunLawParams(g.kp_per_s2, g.kd_per_s, g.sun_error_limit, PLUS_X.copy()) if g
            else SunLawParams(0.0, 0.0, 1.0, PLUS_X.copy()))
     tau = g.rate_filter_s if g else 1.0
-    return AceParams(law, g.k_perp if g else 1.0, g.k_sunline if g else 1.0, dt / (tau + dt),
+    return AceParams(g is not None, law, g.k_perp if g else 1.0, g.k_sunline if g else 1.0, dt / (tau + dt),
                      g.h_sunline_ref_Nms if g else 0.0, np.diag(np.array(sc.inertia_B_kgm2, float)).copy(),
                      distribution_matrix(w.axes_B), w.torque_limit_sw_Nm, np.array(w.axes_B, float),
                      w.spin_inertia_kgm2, np.array(sc.sensors.iru_units.channel_axes_B, float),
@@ -103,6 +103,8 @@ def acted_row(sc) -> int:
 
 def fdc_state(sc, enabled: bool) -> FdcState:
     n = sc.n_wheels
-    return FdcState(np.full(N_CHECKS, enabled and sc.fsw.fdc is not None, np.bool_), np.zeros(1, np.int64),
+    on = np.full(N_CHECKS, enabled and sc.fsw.fdc is not None, np.bool_)
+    on[CHECK_WHEEL] &= sc.sensors.tachometers is not None   # the wheel check reads the tachometers
+    return FdcState(on, np.zeros(1, np.int64),
                     np.zeros(len(sc.star_trackers), np.int64), np.full(2, -1, np.int64), np.zeros((2, n)),
                     np.ones(n, np.bool_), make_iru_fdc_state(), make_wheel_fdc_state(n))

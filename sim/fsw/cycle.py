@@ -102,7 +102,7 @@ def pid_mode_law(rec, s, p):
     return event
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def tracker_attitude(st_q_SN, st_valid, st_q_BS):
     """(q_BN, ok) from the lowest-numbered valid star tracker: a reference
     independent of the IRU, for the IRU failure check."""
@@ -161,7 +161,7 @@ def fsw_cycle(rec, s, p, act):
         if mode_uses_wheels(mode) and p.wb.limit_Nm > 0.0 and s.fdc.wheel_ok.all():
             wheel_bias_cycle(rec.tach_speed_rad_s, rec.tach_valid, p.wb, p.torque_limit, act.wheel_torque_Nm,
                              s.wheel_bias_Nm)
-    if mode != SAFEHOLD:
+    if mode != SAFEHOLD and s.fdc.enabled.any():
         q_ref, ref_ok = tracker_attitude(rec.st_q_SN, rec.st_valid, p.ekf.st_q_BS)
         if fdc_cycle(mode, att_err, s.rate_B, rec.iru_rate_ch_rad_s, rec.iru_ch_valid, s.iru_ch_use, q_ref, ref_ok,
                      rec.st_valid, rec.tach_speed_rad_s, rec.tach_valid, act.wheel_torque_Nm, p.fdc,

@@ -52,21 +52,21 @@ class FdcState(NamedTuple):
     wheel: WheelFdcState
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def limits_exceeded(mode, att_err_rad, rate_B, p, s):
     over = att_err_rad > p.att_limit_rad[mode] or np.sqrt(np.sum(rate_B * rate_B)) > p.rate_limit_rad_s[mode]
     s.limit_count[0] = s.limit_count[0] + 1 if over else 0
     return s.limit_count[0] >= p.limit_cycles
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _fired(s, check, unit):
     s.last[0] = check
     s.last[1] = unit
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def fdc_cycle(mode, att_err_rad, rate_B, iru_rate_ch, iru_ch_valid, iru_ch_use, q_ref_BN, ref_ok, st_valid,
               tach_speed_rad_s, tach_valid, wheel_cmd_Nm, p, s):
     """All enabled checks for one cycle; True when one fired (s.last says which)."""

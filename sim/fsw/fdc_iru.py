@@ -272,7 +272,14 @@ def iru_fdc_cycle(rate_ch_rad_s, ch_valid, ch_use, q_BN_ref, ref_valid, p, s):
     usable = np.empty(n_ch, np.bool_)
     for k in range(n_ch):
         usable[k] = ch_use[k] and not s.failed[k]
-    _window_step(rate_ch_rad_s, ch_valid, usable, q_BN_ref, ref_valid, p, s)
+    # the isolation windows run only once an axis disagrees: a healthy IRU
+    # then costs the disagreement filter alone (the windows cost most of a
+    # microsecond a cycle); isolation comes at the end of the first window
+    # after detection
+    if s.win_t[0] >= 0 or s.detected.any():
+        _window_step(rate_ch_rad_s, ch_valid, usable, q_BN_ref, ref_valid, p, s)
+    else:
+        s.slope_age[0] += 1
 
     new = -1
     alpha = 1.0 / p.persistence_cycles

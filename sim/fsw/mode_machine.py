@@ -184,6 +184,10 @@ class ModeMachine:
     def _drop_wheel(self, wheel: int) -> None:
         axes = np.array(self.sc.wheels.axes_B, float)
         ok = self.s.fdc.wheel_ok
+        if np.count_nonzero(ok) < 3:   # two wheels cannot hold three axes: keep the last distribution
+            self.fdc_actions.append(FdcAction("wheel", f"wheel {wheel + 1} failed",
+                                              "none: fewer than three wheels left (command Safehold or DeltaH)"))
+            return
         dist = np.zeros_like(self.p.dist)
         dist[ok] = distribution_matrix(axes[ok])
         self.p.dist[:] = dist

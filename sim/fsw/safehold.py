@@ -37,6 +37,7 @@ EVENT_ACE_TAKEOVER = 10   # shares the event-code space of sim/fsw/state.py
 
 
 class AceParams(NamedTuple):
+    present: bool              # False: this spacecraft has no ACE Safehold (fsw.safehold absent)
     law: SunLawParams
     k_perp: float
     k_sunline: float
@@ -68,7 +69,7 @@ def make_ace_state() -> AceState:
                     np.zeros(1, np.bool_), np.zeros(3), np.zeros(3))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def css_rates(sun_B, sun_ok, a, p):
     """Update the CSS-derived perpendicular rate from this cycle's Sun vector."""
     if sun_ok and a.sun_ok[0]:
@@ -80,7 +81,7 @@ def css_rates(sun_B, sun_ok, a, p):
     a.sun_ok[0] = sun_ok
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def safehold_torque_B(tach_speed_rad_s, iru_rate_B, a, p):
     """Eq. (7), or the rate-only eclipse law."""
     t = np.empty(3)
@@ -101,7 +102,7 @@ def safehold_torque_B(tach_speed_rad_s, iru_rate_B, a, p):
     return t
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def ace_cycle(proc_up, css_current_A, iru_rate_ch, iru_ch_valid, tach_speed_rad_s, a, p, wheel_torque_Nm,
               thruster_pulses, engine_on):
     """One ACE cycle after the main processor's (whose output it overrides

@@ -41,6 +41,14 @@ class Spacecraft(Strict):
                 f"fsw.star_tracker = {self.fsw.star_tracker} but only {len(self.star_trackers)} star tracker(s) defined")
         return self
 
+    @model_validator(mode="after")
+    def _pulses_fit_the_cycle(self) -> "Spacecraft":
+        t = self.thrusters
+        if t.max_pulses_per_cycle * t.pulse_s > self.timing.control_dt_s + 1e-12:
+            raise ValueError(f"thrusters.max_pulses_per_cycle = {t.max_pulses_per_cycle} pulses of {t.pulse_s:g} s "
+                             f"do not fit in the {self.timing.control_dt_s:g} s control cycle (timing.control_dt_s)")
+        return self
+
     @property
     def n_wheels(self) -> int:
         return len(self.wheels.axes_B)
