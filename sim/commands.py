@@ -29,7 +29,7 @@ UnitQuat = Annotated[Quat, AfterValidator(check_unit_quaternion)]
 
 
 class CommandBase(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
     legal_modes: ClassVar[tuple[Mode, ...]] = ()
     hazardous: ClassVar[bool] = False
 
@@ -87,7 +87,7 @@ class DeltaHArgs(BaseModel):
     """What DeltaH needs on entry: the wheel targets (seed 001 "DeltaH": "drive
     the reaction wheels to a desired wheel speed"), and the tip-off
     contingency flag (K_p / 10, rate nulling)."""
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
     wheel_momentum_Nms: list[float] | None = Field(
         None, description="target momentum of each wheel, N m s (or give wheel_speed_rpm; neither: all zero)")
     wheel_speed_rpm: list[float] | None = Field(None, description="target speed of each wheel, rpm")
@@ -105,7 +105,7 @@ class DeltaVArgs(BaseModel):
     attitude target for DeltaV burn, (2) burn duration, including any settling
     burn length, (3) whether the main engine will be used, and (4) desired set
     of thrusters")."""
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
     target_q_RN: UnitQuat = Field(description="burn attitude, GCI, scalar-first [w, x, y, z]")
     duration_s: float = Field(gt=0, le=6 * 3600, description="burn length including the settling burn, s",
                               examples=[60.0])

@@ -74,7 +74,8 @@ class ProcessorReset(FaultBase):
     """The main processor resets: down for duration_s, then back up with the
     ACE in Safehold (seed 001: Safehold runs in the ACE, apart from it)."""
     kind: Literal["processor_reset"] = "processor_reset"
-    duration_s: float = Field(10.0, gt=0, le=3600, description="time the processor is down")
+    # ge 2 s: longer than the ACE's heartbeat timeout (1 s, sdo.yaml), so the ACE takes over
+    duration_s: float = Field(10.0, ge=2.0, le=3600, description="time the processor is down")
 
 
 class ProcessorFailed(FaultBase):

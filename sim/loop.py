@@ -9,9 +9,9 @@ is here, in the runner's code: sim.truth and sim.fsw never meet otherwise.
 from numba import njit
 
 from sim.fsw.cycle import fsw_cycle
-from sim.telemetry_fields import _numbers
 from sim.fsw.safehold import ace_cycle
 from sim.records import copy_command
+from sim.telemetry_fields import _numbers
 from sim.truth.plant import propagate, sense, set_environment
 
 
@@ -46,6 +46,10 @@ def advance(n_cycles, cycle0, cycle_s, ts, tp, noise, noise_row, rec, s, fp, ace
                                   act_new.engine_on)
             if event == 0:
                 event = ace_event
+        elif not s.proc_up[0]:   # no ACE: nothing commands the actuators
+            act_new.wheel_torque_Nm[:] = 0.0
+            act_new.thruster_pulses[:] = 0.0
+            act_new.engine_on[0] = 0.0
         if delay == 0:
             copy_command(act_new, act_applied)
         propagate(ts, tp, act_applied)

@@ -37,8 +37,8 @@ from sim.fsw.flight_software import FlightSoftware
 from sim.fsw.snr import SOLAR_POLE_N, snr_quat_from_sun
 from sim.fsw.state import EVENT_SLEW_SETTLED
 from sim.loop import advance
-from sim.records import empty_actuator_command, empty_sensor_record
 from sim.modes import Mode
+from sim.records import empty_actuator_command, empty_sensor_record
 from sim.scenario import Scenario, initial_mode
 from sim.spacecraft.definition import Spacecraft
 from sim.truth import build, sensor_suite
@@ -181,9 +181,9 @@ class Runner:
             up[0] = False
             self._processor_up_cycle = (self.cycle + self.cycle_at(f.duration_s) if isinstance(f, ProcessorReset)
                                         else None)
-        else:
+        elif not up[0]:
             self._processor_up_cycle = None
-            up[0] = True
+            self._processor_up()
         return ""
 
     def _apply_fault(self, rec: CommandRecord) -> None:
@@ -246,11 +246,19 @@ class Runner:
             self.emit(Event(self.t_s, WARNING, "fdc", "fdc", f"FDC {a.check}: {a.trigger}; response: {a.response}",
                             {"check": a.check, "trigger": a.trigger, "response": a.response}))
 
-    def _check_deadlines(self) -> None:
+    def _processor_return(self) -> None:
+        """A reset ends: before this cycle's commands, so they find the processor up."""
         if self._processor_up_cycle is not None and self.cycle >= self._processor_up_cycle:
             self._processor_up_cycle = None
-            self.fsw.state.proc_up[0] = True
-            self.emit(Event(self.t_s, WARNING, "fsw", "fault", "main processor back up after reset; ACE in Safehold"))
+            self._processor_up()
+
+    def _processor_up(self) -> None:
+        self.fsw.resume(self.cycle)
+        self.fsw.state.proc_up[0] = True
+        self.emit(Event(self.t_s, WARNING, "fsw", "fault",
+                        f"main processor back up; mode {self.fsw.mode.name}"))
+
+    def _check_deadlines(self) -> None:
         if self._slew is not None and self.cycle >= self._slew[1]:
             self.fsw.stop_watching_slew()
             self.queue.stamp(self._slew[0], FAILED, self.t_s,
@@ -300,6 +308,7 @@ class Runner:
         """Run control cycles until `target_cycle` (capped at the run's end)."""
         target_cycle = min(target_cycle, self.end_cycle)
         while self.cycle < target_cycle:
+            self._processor_return()
             self._deliver_due_commands()
             self._check_deadlines()
             if self.cycle % self.tlm_every == 0:

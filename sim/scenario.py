@@ -179,6 +179,9 @@ def _spacecraft_checks(s: Scenario, sc: Spacecraft) -> list[str]:
     if sc.fsw.ephemeris is None and "snr" in (s.initial.target, s.initial.q_BN_frame):
         problems.append("initial: target or q_BN_frame 'snr' needs the on-board ephemeris (fsw.ephemeris), "
                         "which this spacecraft does not have")
+    section = {"SUNACQ": "sun_acquisition", "SAFEHOLD": "safehold"}.get(s.initial.mode)
+    if section and getattr(sc.fsw, section) is None:
+        problems.append(f"initial.mode: {s.initial.mode} needs fsw.{section}, which this spacecraft does not have")
     try:
         make_torque_filter_params(sc.fsw.torque_filters, cycle)
     except ValueError as err:   # a filter that cannot be built at this control rate

@@ -207,3 +207,48 @@ def test_deltav_target_changes_mid_burn_on_the_redundant_set():
     # the ACS thrusters gave the delta-V: 4 x 22.24 N x cos 10 deg for ~150 s on ~3000 kg (minus off-pulsing)
     dv = tel["deltav_est_m_s"].max()
     assert 0.7 * 4 * 22.24 * 0.985 * 150.0 / 3000.0 < dv < 4 * 22.24 * 0.985 * 150.0 / 2990.0
+
+
+def test_commands_wait_for_the_processor_and_its_clock_catches_up():
+    """While the main processor is down every flight-software command is
+    refused with the reason; after processor_failed is cleared 10 min later
+    the on-board ephemeris has caught up: the on-board Sun is within 2 arcsec
+    of the truth's (seed 001 "On-Board Ephemeris"; without the catch-up it
+    would lag the Sun's ~0.04 arcsec/s motion by 600 s, ~25 arcsec)."""
+    res = _run("INERTIAL", 700.0, [
+        {"t_s": 10.0, "type": "inject_fault", "fault": {"kind": "processor_failed"}},
+        {"t_s": 20.0, "type": "reset_integrator"},
+        {"t_s": 610.0, "type": "clear_fault", "fault": {"kind": "processor_failed"}},
+    ])
+    assert "main processor is down" in _rejections(res)["reset_integrator"]
+    t = np.array(res.telemetry["t_s"])
+    err = np.array(res.telemetry["sun_fsw_err_arcsec"])
+    assert err[t > 615.0].max() < 2.0
+    assert _modes(res)[0][1:] == ("INERTIAL", "SAFEHOLD", "fdc")
+
+
+def test_no_false_wheel_failure_after_safehold():
+    """The wheel check does not run in Safehold; its memory of speeds and
+    commands from before is cleared on the way out, so the wheel momentum the
+    ACE moved in 5 min is not taken for a failure back in SunAcq."""
+    res = _run("INERTIAL", 420.0, [
+        {"t_s": 5.0, "type": "set_mode", "mode": "SAFEHOLD"},
+        {"t_s": 305.0, "type": "set_mode", "mode": "SUNACQ"},
+    ], q_BN=[0.9659258262890683, 0.0, 0.0, 0.25881904510252074])   # 30 deg off the Sun: the ACE works
+    wheels = np.array([res.telemetry[f"h_wheel_{i}_Nms"] for i in range(1, 5)])
+    assert np.abs(wheels[:, -1] - wheels[:, 0]).max() > 3.0          # the ACE did move the wheels
+    assert not [e for e in res.events if e.kind == "fdc" and e.data["check"] == "wheel"]
+    assert min(res.telemetry["wheel_ok_1"]) == 1.0
+
+
+def test_non_finite_inputs_are_schema_errors():
+    """NaN passes a naive |q| - 1 check; the schema refuses it, and infinities."""
+    from pydantic import ValidationError
+
+    from sim.commands import COMMAND_ADAPTER
+    for bad in ({"type": "set_deltav_target", "q_RN": [float("nan"), 0, 0, 0]},
+                {"type": "start_deltah", "wheel_speed_rpm": [float("inf"), 0, 0, 0]},
+                {"type": "start_deltav", "target_q_RN": [1, 0, 0, 0], "duration_s": float("nan"),
+                 "main_engine": True}):
+        with pytest.raises(ValidationError):
+            COMMAND_ADAPTER.validate_python(bad)

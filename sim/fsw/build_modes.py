@@ -71,6 +71,8 @@ def thruster_mode_params(sc) -> ThrusterModeParams:
 
 def thruster_set_index(sc, name: str) -> int:
     present = [s for s in SET_NAMES if any(u.set == s for u in sc.thrusters.units)]
+    if name not in present:
+        raise ValueError(f"thruster set {name!r}: this spacecraft's thrusters form the sets {', '.join(present)}")
     return present.index(name)
 
 
@@ -99,6 +101,28 @@ def acted_row(sc) -> int:
     """The command that drove the wheels between the last two samples was
     computed 1 + delay cycles before (sim/loop.py)."""
     return 0 if sc.timing.actuator_delay_cycles == 1 else 1
+
+
+def forget_fdc_history(f: FdcState) -> None:
+    """Clear what the checks remember of past cycles (after Safehold or a
+    processor outage, when they did not run): the wheel residuals and last
+    speeds, the IRU disagreement filters and isolation window, the limit and
+    tracker counters. Failures already declared stay declared."""
+    f.limit_count[:] = 0
+    f.st_count[:] = 0
+    f.cmd_hist[:] = 0.0
+    w = f.wheel
+    w.residual_Nm[:] = 0.0
+    w.count[:] = 0
+    w.prev_ok[:] = False
+    w.u_before_Nm[:] = 0.0
+    i = f.iru
+    i.diff_f[:] = 0.0
+    i.count_dis[:] = 0
+    i.detected[:] = False
+    i.count_inv[:] = 0
+    i.win_t[:] = -1
+    i.slope_age[:] = np.iinfo(np.int64).max // 2   # no verdict from before the gap
 
 
 def fdc_state(sc, enabled: bool) -> FdcState:

@@ -146,6 +146,9 @@ def fsw_cycle(rec, s, p, act):
         event = thruster_mode_cycle(mode == DELTAV, s.q_est_BN, s.ekf.omega_est_B, rec.tach_speed_rad_s, s.thr,
                                     p.thr, act.wheel_torque_Nm, act.thruster_pulses, act.engine_on)
         att_err = rotation_angle(error_quat(s.thr.q_hold_BN, s.q_est_BN))
+        s.torque_pid_B[:] = s.thr.torque_demand_B
+        s.torque_cmd_B[:] = s.thr.torque_demand_B
+        s.torque_undelivered_B[:] = s.thr.torque_demand_B - s.thr.torque_delivered_B
     else:
         act.thruster_pulses[:] = 0.0
         act.engine_on[0] = 0.0

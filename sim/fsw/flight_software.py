@@ -28,7 +28,8 @@ from sim.commands import (
 )
 from sim.fsw import state as st
 from sim.fsw.build import ATTITUDE_OPTIONS, make_fsw_params, make_fsw_state, target_kind
-from sim.fsw.build_modes import ace_params, thruster_set_index
+from sim.fsw.build_modes import ace_params, forget_fdc_history, thruster_set_index
+from sim.fsw.ephemeris_task import ephemeris_task_run
 from sim.fsw.fdc import CHECK_NAMES
 from sim.fsw.mode_machine import FdcAction, ModeMachine, Transition
 from sim.fsw.safehold import make_ace_state
@@ -84,6 +85,8 @@ class FlightSoftware:
     # -- commands --------------------------------------------------------------
     def check(self, cmd: CommandBase) -> str:
         """Why the command is illegal now, or "" when it is legal."""
+        if not self.state.proc_up[0]:
+            return "the main processor is down: the ACE holds Safehold until it is back"
         if self.mode not in cmd.legal_modes:
             legal = ", ".join(m.name for m in cmd.legal_modes)
             return f"{cmd.type} is not legal in {self.mode.name}; legal in: {legal}"
@@ -107,9 +110,20 @@ class FlightSoftware:
             v = getattr(args, field, None)
             if v is not None and len(v) != self.sc.n_wheels:
                 return f"{field}: {len(v)} values given, this spacecraft has {self.sc.n_wheels} wheels"
-        v = getattr(args, "wheel_momentum_Nms", None)
-        if v is not None and max(abs(x) for x in v) > self.sc.wheels.h_max_Nms:
-            return f"wheel_momentum_Nms: beyond the wheels' {self.sc.wheels.h_max_Nms:g} N m s capacity"
+        h = self._deltah_targets_Nms(args)
+        if np.abs(h).max() > self.sc.wheels.h_max_Nms:
+            return f"wheel targets beyond the wheels' {self.sc.wheels.h_max_Nms:g} N m s capacity"
+        if isinstance(cmd, SetDeltaVTarget):
+            return self._check_retarget(cmd)
+        return ""
+
+    def _check_retarget(self, cmd) -> str:
+        """A retarget the DeltaV attitude limit would take for a failure is refused."""
+        limits = self.sc.fsw.fdc.attitude_limit_deg if self.sc.fsw.fdc else {}
+        angle = np.degrees(rotation_angle(error_quat(np.array(cmd.q_RN, float), self.state.thr.q_hold_BN)))
+        if "DELTAV" in limits and angle >= limits["DELTAV"]:
+            return (f"q_RN is {angle:.1f} deg from the current burn target, beyond the DeltaV attitude limit "
+                    f"{limits['DELTAV']:g} deg (FDC would abandon the burn); retarget in smaller steps")
         return ""
 
     def execute(self, cmd: CommandBase) -> Outcome:
@@ -133,6 +147,7 @@ class FlightSoftware:
             s.cgt[0] = cmd.cgt - 1
         elif isinstance(cmd, SetDeltaVTarget):
             s.thr.q_hold_BN[:] = cmd.q_RN
+            s.fdc.limit_count[0] = 0
         elif isinstance(cmd, SelectThrusterSet):
             s.thr.thr_set[0] = thruster_set_index(self.sc, cmd.thruster_set)
             s.thr.carry[:] = 0.0
@@ -158,13 +173,16 @@ class FlightSoftware:
         reason = self.transition(new, GROUND, f"command {cmd.type}", setup)
         return Outcome(not reason, reason, completed=not reason)
 
+    def _deltah_targets_Nms(self, args) -> np.ndarray:
+        """DeltaH's wheel momentum targets from start_deltah / set_mode deltah (zero when not given)."""
+        if getattr(args, "wheel_momentum_Nms", None) is not None:
+            return np.array(args.wheel_momentum_Nms, float)
+        if getattr(args, "wheel_speed_rpm", None) is not None:
+            return np.array(args.wheel_speed_rpm, float) * (np.pi / 30.0) * self.sc.wheels.spin_inertia_kgm2
+        return np.zeros(self.sc.n_wheels)
+
     def _deltah_setup(self, args):
-        n = self.sc.n_wheels
-        h = np.zeros(n)
-        if args is not None and args.wheel_momentum_Nms is not None:
-            h = np.array(args.wheel_momentum_Nms, float)
-        elif args is not None and args.wheel_speed_rpm is not None:
-            h = np.array(args.wheel_speed_rpm, float) * (np.pi / 30.0) * self.sc.wheels.spin_inertia_kgm2
+        h = self._deltah_targets_Nms(args)
         tipoff = bool(args.tipoff) if args is not None else False
         t = self.state.thr
 
@@ -197,6 +215,20 @@ class FlightSoftware:
             s.target[0] = target_kind(s.dq_RS)
         update_target(s, self.params)
         s.flags[st.F_WATCH_SLEW] = 1.0
+
+    def resume(self, cycle: int) -> None:
+        """The main processor is back after an outage up to `cycle`: its clock
+        and ephemeris catch up (the spacecraft clock kept time), its checks
+        forget what they saw before. The ACE keeps Safehold if it took over."""
+        s, p = self.state, self.params
+        if p.eph_every > 0:
+            k0 = int(s.cycle[0])
+            first = (k0 // p.eph_every + 1) * p.eph_every   # the first sample cycle the processor missed
+            n = max(0, (cycle - 1 - first) // p.eph_every + 1) if cycle > first else 0
+            ephemeris_task_run(p.eph, s.eph, n)
+            update_target(s, p)
+        s.cycle[0] = cycle
+        forget_fdc_history(s.fdc)
 
     def slew_time_allowed_s(self) -> float:
         """For the slew just commanded: its angle at the limited rate plus the allowance."""

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from sim.fsw import state as st
+from sim.fsw.build_modes import forget_fdc_history
 from sim.fsw.distribution import distribution_matrix
 from sim.fsw.fdc import (
     CHECK_IRU,
@@ -99,6 +100,7 @@ class ModeMachine:
         s = self.s
         if old == Mode.SAFEHOLD:
             self.ace.in_control[0] = False
+            forget_fdc_history(s.fdc)   # the main processor's checks did not run: their memory is stale
         if old in (Mode.DELTAH, Mode.DELTAV):
             s.thr.carry[:] = 0.0
 
@@ -114,6 +116,7 @@ class ModeMachine:
             # bank starts from the steady state of the held integral torque.
             preload_torque_filter(s.tf, p.tf, BANK_SCIENCE, s.torque_int_B)
         elif new == Mode.DELTAH:
+            s.thr.carry[:] = 0.0
             self.deltah_entry = old
             s.thr.q_hold_BN[:] = s.q_est_BN   # seed 001: "the estimated spacecraft attitude upon DeltaH mode entry"
         elif new == Mode.SAFEHOLD:
@@ -128,6 +131,8 @@ class ModeMachine:
         s.integral[:] = 0.0
         s.int_active[:] = False
         s.torque_int_B[:] = 0.0
+        s.torque_cmd_B[:] = 0.0          # the last mode's torques say nothing of the PID's
+        s.torque_undelivered_B[:] = 0.0
         if old == Mode.DELTAV:
             s.q_RN_cmd[:] = s.thr.q_hold_BN
             s.target[0] = TARGET_GCI
@@ -152,12 +157,15 @@ class ModeMachine:
         }
         if code in handlers:
             handlers[code]()
+        if self.s.fdc.last[0] >= 0:   # an FDC check fired on the same cycle as another event
+            self._on_fdc()
 
     def _on_takeover(self) -> None:
         if self.mode == Mode.SAFEHOLD:
             return
         why = "ACE: main processor heartbeat lost"
         old = self.mode
+        self._exit(old)
         self.s.mode[0] = int(Mode.SAFEHOLD)   # whatever the table says: the ACE has the wheels already
         self.s.mode_info[:] = (int(old), CAUSE_CODES[FDC])
         self.transitions.append(Transition(old, Mode.SAFEHOLD, FDC, why))
@@ -165,6 +173,9 @@ class ModeMachine:
 
     def _on_fdc(self) -> None:
         check, unit = (int(x) for x in self.s.fdc.last)
+        if check < 0:
+            return
+        self.s.fdc.last[:] = -1   # handled (the cycle sets it again when a check fires)
         name = CHECK_NAMES[check]
         if check == CHECK_IRU:
             self.fdc_actions.append(FdcAction(name, f"IRU channel {unit + 1} failed",

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from pydantic import Field
+from pydantic import Field, model_validator
 
 from sim.spacecraft.filter_models import TorqueFilters
 from sim.spacecraft.model import NonNegative, Positive, Strict
@@ -96,13 +96,16 @@ class ThrusterControl(Strict):
     thruster_set: Literal["primary", "redundant"] = Field("primary", description="set in use at start")
 
 
+ModeName = Literal["SUNACQ", "INERTIAL", "SCIENCE", "DELTAH", "DELTAV", "SAFEHOLD"]
+
+
 class Fdc(Strict):
     """Failure detection and correction thresholds; each check can be
     disabled by command (set_fdc_check)."""
-    attitude_limit_deg: dict[str, Positive] = Field(
+    attitude_limit_deg: dict[ModeName, Positive] = Field(
         description="per mode: attitude error beyond which the mode's FDC response fires")
-    rate_limit_deg_s: dict[str, Positive] = Field(description="per mode: body rate beyond which it fires")
-    limit_response: dict[str, Literal["INERTIAL", "SUNACQ", "SAFEHOLD"]] = Field(
+    rate_limit_deg_s: dict[ModeName, Positive] = Field(description="per mode: body rate beyond which it fires")
+    limit_response: dict[ModeName, Literal["INERTIAL", "SUNACQ", "SAFEHOLD"]] = Field(
         description="per mode: where the attitude/rate limit check takes the spacecraft")
     limit_persistence_s: Positive = Field(description="how long a limit must be exceeded")
     wheel_torque_threshold_Nm: Positive
@@ -110,6 +113,13 @@ class Fdc(Strict):
     iru_disagree_deg_s: Positive
     iru_persistence_s: Positive
     iru_window_s: Positive
+
+    @model_validator(mode="after")
+    def _every_limit_has_a_response(self) -> "Fdc":
+        missing = sorted((set(self.attitude_limit_deg) | set(self.rate_limit_deg_s)) - set(self.limit_response))
+        if missing:
+            raise ValueError(f"limit_response: modes {', '.join(missing)} have limits but no response")
+        return self
 
 
 class Fsw(Strict):

@@ -25,7 +25,7 @@ class Strict(BaseModel):
 
 def check_unit_quaternion(q: Quat) -> Quat:
     norm = float(np.linalg.norm(q))
-    if abs(norm - 1.0) > UNIT_TOL:
+    if not abs(norm - 1.0) <= UNIT_TOL:   # written so that NaN fails too
         raise ValueError(f"expected a unit quaternion [w, x, y, z] (norm 1 +- {UNIT_TOL:g}), found norm {norm:.9g}")
     return q
 
