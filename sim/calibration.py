@@ -43,7 +43,6 @@ from pydantic import (
 )
 
 from sim.attitude import ARCSEC_PER_RAD
-from sim.commands import SetTargetSnr, split_time_tag
 
 STEP_MIN_ARCSEC, STEP_MAX_ARCSEC = 5.0, 9000.0      # seed 000: slews "5 arcsec - 9000 arcsec"
 OFFPOINT_MAX_ARCSEC = 2.5 * 3600.0                   # seed 001: "up to 2.5 degrees in pitch and yaw"
@@ -199,11 +198,14 @@ CALIBRATION_ADAPTER: TypeAdapter = TypeAdapter(CalibrationManeuver)
 MANEUVER_TYPES = {c.model_fields["maneuver"].default: c for c in (EveCruciform, OffpointGrid)}
 
 
-def expand(maneuver: EveCruciform | OffpointGrid, t0_s: float) -> list[tuple[float, SetTargetSnr]]:
+def expand(maneuver: EveCruciform | OffpointGrid, t0_s: float) -> list[tuple[float, Any]]:
     """Time-tagged commands: the first at t0_s, each pointing followed by its
     allowance + dwell before the next, the last a return to Sun centre
     (identity delta). Tags are t0 + k * period, not a running sum, so they do
     not drift however long the list."""
+    # imported here: sim.commands imports this module for start_calibration's model
+    from sim.commands import SetTargetSnr
+
     if t0_s < 0:
         raise ValueError(f"t0_s: expected >= 0 s, found {t0_s:g}")
     period_s = maneuver.allowance_s + maneuver.dwell_s
@@ -228,7 +230,11 @@ class ScheduledCalibration(BaseModel):
     @model_validator(mode="before")
     @classmethod
     def _split(cls, data: Any) -> Any:
+        from sim.commands import (
+            split_time_tag,  # here: sim.commands imports this module
+        )
+
         return split_time_tag(data, "calibration")
 
-    def commands(self) -> list[tuple[float, SetTargetSnr]]:
+    def commands(self) -> list[tuple[float, Any]]:
         return expand(self.calibration, self.t_s)

@@ -20,6 +20,7 @@ from pydantic import (
     model_validator,
 )
 
+from sim.calibration import CalibrationManeuver
 from sim.faults import Fault
 from sim.modes import Mode
 from sim.spacecraft.model import Quat, check_unit_quaternion
@@ -177,6 +178,17 @@ class SetFdcCheck(CommandBase):
     legal_modes: ClassVar = tuple(Mode)
 
 
+class StartCalibration(CommandBase):
+    """Fly a calibration maneuver from the library (sim/calibration.py: the EVE
+    cruciform, an off-point grid): the ground expands it into time-tagged
+    set_target_snr commands from now, in the same queue (seed 001 "SNR
+    Target": the delta quaternion "greatly simplifies the calibration
+    maneuvers"). Inertial only: seed 001 "Inertial mode" performs them."""
+    type: Literal["start_calibration"] = "start_calibration"
+    maneuver: CalibrationManeuver
+    legal_modes: ClassVar = (Mode.INERTIAL,)
+
+
 class InjectFault(CommandBase):
     """Break something in the simulated world (not a flight-software command)."""
     type: Literal["inject_fault"] = "inject_fault"
@@ -194,8 +206,10 @@ class ClearFault(CommandBase):
 
 
 WORLD_COMMANDS = (InjectFault, ClearFault)  # handled by the runner, not the flight software
+GROUND_PROCEDURES = (StartCalibration,)      # expanded by the runner (the ground) into flight-software commands
 _ALL = (SetTargetQuaternion, SetTargetSnr, ResetIntegrator, SetAttitudeOption, EnableScienceAutonomy, SelectCgt,
-        SetMode, StartDeltaH, StartDeltaV, SetDeltaVTarget, SelectThrusterSet, SetFdcCheck, InjectFault, ClearFault)
+        SetMode, StartDeltaH, StartDeltaV, SetDeltaVTarget, SelectThrusterSet, SetFdcCheck, StartCalibration,
+        InjectFault, ClearFault)
 Command = Annotated[Union[_ALL], Field(discriminator="type")]
 COMMAND_ADAPTER: TypeAdapter = TypeAdapter(Command)
 COMMAND_TYPES = {c.model_fields["type"].default: c for c in _ALL}

@@ -16,12 +16,14 @@ import numpy as np
 
 from sim import fault_injection, telemetry, telemetry_fields
 from sim.attitude import quat_mul
+from sim.calibration import duration_s, expand
 from sim.command_queue import CommandQueue
 from sim.commands import (
     ACCEPTED,
     COMPLETED,
     EXECUTING,
     FAILED,
+    GROUND_PROCEDURES,
     REJECTED,
     WORLD_COMMANDS,
     CommandBase,
@@ -169,7 +171,8 @@ class Runner:
             listener.on_command(rec, st)
         severity = WARNING if st.name in (REJECTED, FAILED) else INFO
         msg = f"{rec.describe()} {st.name}" + (f": {st.reason}" if st.reason else "")
-        handler = "simulator" if isinstance(rec.command, WORLD_COMMANDS) else "fsw"
+        handler = ("simulator" if isinstance(rec.command, WORLD_COMMANDS)
+                   else "ground" if isinstance(rec.command, GROUND_PROCEDURES) else "fsw")
         self.emit(Event(st.t_s, severity, "ground" if st.name == "queued" else handler, "command", msg,
                         {"id": rec.id, "stage": st.name}))
 
@@ -202,10 +205,31 @@ class Runner:
         self.emit(Event(self.t_s, WARNING if inject else INFO, "ground", "fault",
                         f"fault {verb}: {describe_fault(cmd.fault)}", {"command": rec.id}))
 
+    def _start_procedure(self, rec: CommandRecord) -> None:
+        """A ground procedure (a calibration): legal now, it becomes its
+        time-tagged commands from this cycle, each with its own lifecycle."""
+        reason = self.fsw.check(rec.command)
+        if reason:
+            self.queue.stamp(rec, REJECTED, self.t_s, reason)
+            return
+        steps = expand(rec.command.maneuver, self.t_s)
+        for stage in (ACCEPTED, EXECUTING):
+            self.queue.stamp(rec, stage, self.t_s)
+        for t_s, command in steps:
+            self.submit(command, f"calibration:{rec.id}", t_s)
+        self.queue.stamp(rec, COMPLETED, self.t_s)
+        m = rec.command.maneuver
+        self.emit(Event(self.t_s, INFO, "ground", "calibration",
+                        f"calibration {m.maneuver}: {len(steps)} commands queued, {duration_s(m):.0f} s",
+                        {"command": rec.id, "n_commands": len(steps)}))
+
     def _deliver_due_commands(self) -> None:
         for rec in self.queue.pop_due(self.cycle):
             if isinstance(rec.command, WORLD_COMMANDS):
                 self._apply_fault(rec)
+                continue
+            if isinstance(rec.command, GROUND_PROCEDURES):
+                self._start_procedure(rec)
                 continue
             outcome = self.fsw.execute(rec.command)
             if not outcome.accepted:

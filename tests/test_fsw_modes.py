@@ -252,3 +252,23 @@ def test_non_finite_inputs_are_schema_errors():
                  "main_engine": True}):
         with pytest.raises(ValidationError):
             COMMAND_ADAPTER.validate_python(bad)
+
+
+def test_start_calibration_expands_into_timed_target_commands():
+    """The console's calibration picker sends start_calibration; the ground
+    side expands it (sim/calibration.py expand: one command per pointing at
+    t0 + k (allowance + dwell), then the return to Sun centre) into the same
+    queue, each with its own lifecycle. A 1 x 3 grid at 300 arcsec, 120 + 60 s
+    per point, from t = 10 s: tags 10, 190, 370 and the return at 550 s.
+    Refused outside Inertial (seed 001: calibrations fly in Inertial)."""
+    grid = {"maneuver": "offpoint_grid", "n_rows": 1, "n_cols": 3}
+    res = _run("INERTIAL", 700.0, [{"t_s": 10.0, "type": "start_calibration", "maneuver": grid}])
+    parent = next(r for r in res.commands if r.command.type == "start_calibration")
+    assert parent.state == "completed"
+    steps = [r for r in res.commands if r.source == f"calibration:{parent.id}"]
+    assert [r.due_s for r in steps] == pytest.approx([10.0, 190.0, 370.0, 550.0], abs=1e-9)
+    assert all(r.command.type == "set_target_snr" for r in steps)
+    assert steps[-1].command.delta_q == (1.0, 0.0, 0.0, 0.0)
+    assert all(r.state == "completed" for r in steps)          # each slew settled within its allowance
+    refused = _run("SCIENCE", 5.0, [{"t_s": 1.0, "type": "start_calibration", "maneuver": grid}])
+    assert "not legal in SCIENCE" in _rejections(refused)["start_calibration"]
