@@ -63,11 +63,19 @@ def status_markdown(frame: dict | None, status: dict, run: dict) -> str:
     return (f"### {frame['mode']}\n"
             f"**Sim UTC** {frame['utc']}  \n**t** {frame['t_s']:.1f} s   **warp** {warp}   "
             f"**lag** {lag:.3f} s  \n**running at** {status['realtime_ratio']:.1f}× real time  \n"
-            f"**att err** {frame.get('att_err_arcsec', float('nan')):.1f} arcsec  \n"
+            f"{pointing_line(frame)}  \n"
             f"run {run['run_id']}: {run['name']} (seed {run['seed']}){ended}")
 
 
 CAUSES = {0.0: "ground", 1.0: "FDC", 2.0: "autonomous"}   # telemetry mode_cause (sim/telemetry_fields.py)
+
+
+def pointing_line(frame: dict) -> str:
+    """What the mode points by: the CSS modes hold the Sun (the attitude target
+    means nothing there), the others their target attitude."""
+    if frame["mode"] in ("SUNACQ", "SAFEHOLD"):
+        return f"**Sun angle** {frame.get('sun_angle_deg', float('nan')):.2f} deg"
+    return f"**att err** {frame.get('att_err_arcsec', float('nan')):.1f} arcsec"
 
 
 class ModeHistory:
