@@ -7,6 +7,8 @@ import math
 ARCSEC_RAD = math.pi / (180.0 * 3600.0)   # rad per arcsec
 C_LIGHT_M_S = 299792458.0                 # exact (SI)
 AU_M = 149597870700.0                     # IAU 2012 Resolution B2
+G0_M_S2 = 9.80665                         # standard gravity (3rd CGPM, 1901): defines Isp in seconds
+LBF_N = 4.4482216152605                   # pound-force in newtons (NIST SP 811, Appendix B.8)
 
 # WGS84 (NIMA TR8350.2, 3rd ed., Table 3.1 / 3.3): GM including the atmosphere,
 # the ellipsoid's equatorial radius and flattening.

@@ -176,9 +176,9 @@ class Runner:
         self.emit(Event(st.t_s, severity, "ground" if st.name == "queued" else handler, "command", msg,
                         {"id": rec.id, "stage": st.name}))
 
-    def _processor_fault(self, f, inject: bool) -> str:
+    def _processor_fault(self, f, inject: bool) -> None:
         """The main processor is flight hardware, not truth: the runner, which
-        holds both sides, switches it. It comes back with the ACE in charge."""
+        holds both sides, switches it (always possible: nothing to refuse)."""
         up = self.fsw.state.proc_up
         if inject:
             up[0] = False
@@ -187,13 +187,13 @@ class Runner:
         elif not up[0]:
             self._processor_up_cycle = None
             self._processor_up()
-        return ""
 
     def _apply_fault(self, rec: CommandRecord) -> None:
         cmd = rec.command
         inject = isinstance(cmd, InjectFault)
         if isinstance(cmd.fault, PROCESSOR_FAULTS):
-            reason = self._processor_fault(cmd.fault, inject)
+            self._processor_fault(cmd.fault, inject)
+            reason = ""
         else:
             reason = fault_injection.apply(cmd.fault, self.truth, active=inject)
         if reason:

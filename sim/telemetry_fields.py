@@ -24,6 +24,7 @@ from sim.attitude import (
     rotation_angle,
     small_angle_error,
 )
+from sim.fsw.cycle import is_thruster_mode
 from sim.fsw.state import F_CGT_OK
 from sim.modes import Mode
 from sim.truth import mass as massmod
@@ -36,7 +37,6 @@ from sim.truth.wheels import wheel_speeds_rad_s
 RPM_PER_RAD_S = 60.0 / (2.0 * np.pi)
 DEG_H_PER_RAD_S = 180.0 / np.pi * 3600.0
 XYZ = ("x", "y", "z")
-DELTAH, DELTAV = int(Mode.DELTAH), int(Mode.DELTAV)
 WXYZ = ("w", "x", "y", "z")
 
 
@@ -149,10 +149,10 @@ def _fsw_numbers(s, q_BN, sun_N):
 @njit(cache=True)
 def _mode_numbers(s):
     t = s.thr
-    mode = s.mode[0]
-    thruster_mode = mode == DELTAH or mode == DELTAV
-    demand = t.torque_demand_B if thruster_mode else s.torque_cmd_B
-    delivered = t.torque_delivered_B if thruster_mode else s.torque_cmd_B - s.torque_undelivered_B
+    # every mode leaves its demand in torque_cmd_B and what it could not give in
+    # torque_undelivered_B (the thruster modes: by the pulse counts)
+    demand = s.torque_cmd_B
+    delivered = s.torque_cmd_B - s.torque_undelivered_B
     return np.concatenate((
         np.array([float(s.mode_info[0]), float(s.mode_info[1]), t.h_sys_err_Nms[0],
                   np.sqrt(np.sum(t.dv_N * t.dv_N)), t.propellant_kg[0], 1.0 if s.sun_ok[0] else 0.0]),
@@ -163,7 +163,7 @@ def _mode_numbers(s):
 def target_in_use(s):
     """The attitude the current mode holds: the thruster modes' own target, else q_RN."""
     mode = s.mode[0]
-    return s.thr.q_hold_BN if mode == DELTAH or mode == DELTAV else s.q_RN
+    return s.thr.q_hold_BN if is_thruster_mode(mode) else s.q_RN
 
 
 @njit(cache=True)

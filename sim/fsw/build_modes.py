@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from sim.constants import G0_M_S2, LBF_N
 from sim.fsw.css_sun import make_css_sun_params
 from sim.fsw.distribution import distribution_matrix
 from sim.fsw.fdc import CHECK_WHEEL, N_CHECKS, NO_LIMIT, FdcParams, FdcState
@@ -15,20 +16,23 @@ from sim.fsw.fdc_iru import make_iru_fdc_params, make_iru_fdc_state
 from sim.fsw.fdc_wheel import make_wheel_fdc_params, make_wheel_fdc_state
 from sim.fsw.safehold import AceParams
 from sim.fsw.sunacq import SunLawParams
-from sim.fsw.thruster_logic import G0_M_S2, SET_NAMES, make_thruster_logic_params
+from sim.fsw.thruster_logic import SET_NAMES, make_thruster_logic_params
 from sim.fsw.thruster_modes import ThrusterModeParams
 from sim.modes import Mode
 
-LBF_N = 4.4482216152605      # NIST SP 811
 CSS_SETS = {"primary": 0, "backup": 1, "both": 2}
 PLUS_X = np.array([1.0, 0.0, 0.0])   # seed 001: instruments, DSS and the Sun line along +X
 
 
-def sun_law_params(sc) -> SunLawParams:
-    g = sc.fsw.sun_acquisition
+def _sun_law(g) -> SunLawParams:
+    """The Sun-pointing PD of a spacecraft-file section (SunAcq's or Safehold's); none: zero gains."""
     if g is None:
         return SunLawParams(0.0, 0.0, 1.0, PLUS_X.copy())
     return SunLawParams(g.kp_per_s2, g.kd_per_s, g.sun_error_limit, PLUS_X.copy())
+
+
+def sun_law_params(sc) -> SunLawParams:
+    return _sun_law(sc.fsw.sun_acquisition)
 
 
 def css_set(sc) -> int:
@@ -40,10 +44,8 @@ def ace_params(sc) -> AceParams:
     g = sc.fsw.safehold
     dt = sc.timing.control_dt_s
     w = sc.wheels
-    law = (SunLawParams(g.kp_per_s2, g.kd_per_s, g.sun_error_limit, PLUS_X.copy()) if g
-           else SunLawParams(0.0, 0.0, 1.0, PLUS_X.copy()))
     tau = g.rate_filter_s if g else 1.0
-    return AceParams(g is not None, law, g.k_perp if g else 1.0, g.k_sunline if g else 1.0, dt / (tau + dt),
+    return AceParams(g is not None, _sun_law(g), g.k_perp if g else 1.0, g.k_sunline if g else 1.0, dt / (tau + dt),
                      g.h_sunline_ref_Nms if g else 0.0, np.diag(np.array(sc.inertia_B_kgm2, float)).copy(),
                      distribution_matrix(w.axes_B), w.torque_limit_sw_Nm, np.array(w.axes_B, float),
                      w.spin_inertia_kgm2, np.array(sc.sensors.iru_units.channel_axes_B, float),

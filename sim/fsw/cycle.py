@@ -56,6 +56,12 @@ def mode_uses_wheels(mode):
 
 
 @njit(cache=True)
+def is_thruster_mode(mode):
+    """DeltaH and DeltaV: thrusters, on the IRU-propagated attitude (seed 001)."""
+    return mode == DELTAH or mode == DELTAV
+
+
+@njit(cache=True)
 def torque_scale(torque_cmd_B, torque_undelivered_B):
     """Delivered over desired torque of the last cycle, k_t of seed 000 eq. (1)
     (the distribution scales the whole vector, so one number says it). Takes
@@ -136,7 +142,7 @@ def fsw_cycle(rec, s, p, act):
         ephemeris_sample(s, p)
     s.cycle[0] = k + 1
     mode = s.mode[0]
-    thruster_mode = mode == DELTAH or mode == DELTAV
+    thruster_mode = is_thruster_mode(mode)
     # the thruster modes fly the IRU-propagated attitude (seed 001 "DeltaV", "DeltaH")
     attitude_cycle(OPTION_IRU if thruster_mode else s.att_option[0], s.st_select[0], s.ekf, p.ekf, s.rate_B,
                    rec.st_q_SN, rec.st_valid, s.sun_N, rec.dss_angles_rad, rec.dss_valid)

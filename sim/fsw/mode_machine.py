@@ -85,16 +85,19 @@ class ModeMachine:
         reason = self.refusal(new, cause)
         if reason:
             return reason
-        old = self.mode
         if setup:
             setup()
+        self._switch(new, cause, why)
+        return ""
+
+    def _switch(self, new: Mode, cause: str, why: str) -> None:
+        old = self.mode
         self._exit(old)
         self._enter(new, old)
         self.s.mode[0] = int(new)
         self.s.mode_info[:] = (int(old), CAUSE_CODES[cause])
         self.s.fdc.limit_count[0] = 0
         self.transitions.append(Transition(old, new, cause, why))
-        return ""
 
     def _exit(self, old: Mode) -> None:
         s = self.s
@@ -163,12 +166,8 @@ class ModeMachine:
     def _on_takeover(self) -> None:
         if self.mode == Mode.SAFEHOLD:
             return
-        why = "ACE: main processor heartbeat lost"
-        old = self.mode
-        self._exit(old)
-        self.s.mode[0] = int(Mode.SAFEHOLD)   # whatever the table says: the ACE has the wheels already
-        self.s.mode_info[:] = (int(old), CAUSE_CODES[FDC])
-        self.transitions.append(Transition(old, Mode.SAFEHOLD, FDC, why))
+        # no refusal check: the ACE has the wheels already, whatever the table says
+        self._switch(Mode.SAFEHOLD, FDC, "ACE: main processor heartbeat lost")
         self.fdc_actions.append(FdcAction("processor", "main processor heartbeat lost", "ACE Safehold"))
 
     def _on_fdc(self) -> None:

@@ -112,17 +112,22 @@ def ace_cycle(proc_up, css_current_A, iru_rate_ch, iru_ch_valid, tach_speed_rad_
     if not a.in_control[0] and a.missed[0] >= p.heartbeat_cycles:
         a.in_control[0] = True
         event = EVENT_ACE_TAKEOVER
-    sun = np.empty(3)
-    ok = css_sun_vector_B(css_current_A, p.css_set, p.css, sun)
-    css_rates(sun if ok else a.sun_B.copy(), ok, a, p)
     if a.in_control[0]:
+        # the Sun vector only while in control: out of it this would be work in
+        # every cycle of every run; the rate filter starts afresh at takeover,
+        # as after an eclipse
+        sun = np.empty(3)
+        ok = css_sun_vector_B(css_current_A, p.css_set, p.css, sun)
+        css_rates(sun if ok else a.sun_B.copy(), ok, a, p)
         rate, _ = least_squares_rate(iru_rate_ch, p.iru_ch_axes_B, iru_ch_valid)
         a.torque_B[:] = safehold_torque_B(tach_speed_rad_s, rate, a, p)
         distribute(a.torque_B, p.dist, p.torque_limit, wheel_torque_Nm)
         thruster_pulses[:] = 0.0
         engine_on[0] = 0.0
-    elif not proc_up:
-        wheel_torque_Nm[:] = 0.0   # between the processor's loss and the takeover nobody commands
-        thruster_pulses[:] = 0.0
-        engine_on[0] = 0.0
+    else:
+        a.sun_ok[0] = False        # no Sun vector differenced across a spell out of control
+        if not proc_up:   # between the processor's loss and the takeover nobody commands
+            wheel_torque_Nm[:] = 0.0
+            thruster_pulses[:] = 0.0
+            engine_on[0] = 0.0
     return event

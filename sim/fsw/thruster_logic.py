@@ -39,9 +39,9 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from sim.constants import G0_M_S2
 from sim.linalg import matvec
 
-G0_M_S2 = 9.80665  # standard gravity (3rd CGPM, 1901): defines Isp in seconds
 SET_NAMES = ("primary", "redundant")  # row order of ThrusterLogicParams.sets (those present)
 SET_SIZE = 4  # seed 001 "DeltaV": "only one set of four is used"
 

@@ -16,10 +16,9 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from sim.constants import G0_M_S2 as G0_m_s2
+from sim.constants import LBF_N  # noqa: F401 (re-exported: the truth's builders and tests use it from here)
 from sim.linalg import cross
-
-G0_m_s2 = 9.80665  # standard gravity (CGPM 1901), defines Isp in seconds
-LBF_N = 4.4482216152605  # NIST SP 811
 
 
 class ThrusterParams(NamedTuple):
